@@ -1,0 +1,81 @@
+//! The TOML config: seven sections, each stage choosing a backend with `kind = "..."`.
+//!
+//! A config is read as a [`RawConfig`] (text plus `--set` overrides), then resolved against a
+//! [`crate::Registry`] into a [`PipelineConfig`] in which every backend's parameters are
+//! validated and every default is filled in.
+
+mod output;
+mod raw;
+mod render;
+mod resolve;
+
+pub use output::{OnBadFrame, OutputConfig};
+pub use raw::RawConfig;
+pub use render::render_resolved;
+
+use std::path::PathBuf;
+
+/// The sections of a config file, in pipeline order.
+pub const SECTIONS: [&str; 7] = [
+    "source",
+    "image",
+    "detector",
+    "descriptor",
+    "downsampler",
+    "registrar",
+    "output",
+];
+
+/// The stage sections and the backend each uses when the file does not say.
+pub const STAGE_DEFAULT_KINDS: [(&str, &str); 6] = [
+    ("source", "sim"),
+    ("image", "none"),
+    ("detector", "none"),
+    ("descriptor", "none"),
+    ("downsampler", "passthrough"),
+    ("registrar", "kiss-icp"),
+];
+
+/// One stage: the backend name and its resolved parameters (defaults filled in).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageConfig {
+    pub kind: String,
+    pub params: toml::Table,
+}
+
+impl StageConfig {
+    /// True for the `none` backend (stage absent).
+    pub fn is_none(&self) -> bool {
+        self.kind == "none"
+    }
+}
+
+/// A fully resolved config.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PipelineConfig {
+    /// Where the config came from (file path or `built-in`), for messages.
+    pub origin: String,
+    /// Directory relative paths in the config are resolved against.
+    pub base_dir: PathBuf,
+    pub source: StageConfig,
+    pub image: StageConfig,
+    pub detector: StageConfig,
+    pub descriptor: StageConfig,
+    pub downsampler: StageConfig,
+    pub registrar: StageConfig,
+    pub output: OutputConfig,
+}
+
+impl PipelineConfig {
+    /// The stage sections with their names, in pipeline order.
+    pub fn stages(&self) -> [(&'static str, &StageConfig); 6] {
+        [
+            ("source", &self.source),
+            ("image", &self.image),
+            ("detector", &self.detector),
+            ("descriptor", &self.descriptor),
+            ("downsampler", &self.downsampler),
+            ("registrar", &self.registrar),
+        ]
+    }
+}

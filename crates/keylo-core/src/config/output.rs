@@ -1,0 +1,49 @@
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+/// What to do with a frame a stage rejects (empty, all-NaN, …).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum OnBadFrame {
+    /// Stop the run with an error naming the frame; the trajectory so far is written.
+    #[default]
+    Stop,
+    /// Skip the frame, log a warning and count it in the summary.
+    Skip,
+}
+
+/// `[output]`: where and what a run writes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct OutputConfig {
+    /// Output directory; empty means `runs/<timestamp>/`. `--out` overrides it.
+    pub dir: String,
+    /// Write `trajectory.tum` (t tx ty tz qx qy qz qw).
+    pub tum: bool,
+    /// Write `trajectory.kitti` (3x4 row-major pose matrices).
+    pub kitti: bool,
+    /// Ground-truth trajectory (TUM or KITTI) for accuracy figures; empty: use the source's own.
+    pub gt: String,
+    /// What to do with a frame a stage rejects.
+    pub on_bad_frame: OnBadFrame,
+}
+
+impl Default for OutputConfig {
+    fn default() -> Self {
+        Self {
+            dir: String::new(),
+            tum: true,
+            kitti: true,
+            gt: String::new(),
+            on_bad_frame: OnBadFrame::Stop,
+        }
+    }
+}
+
+impl OutputConfig {
+    /// The output directory, if one is set.
+    pub fn dir_path(&self) -> Option<PathBuf> {
+        (!self.dir.is_empty()).then(|| PathBuf::from(&self.dir))
+    }
+}

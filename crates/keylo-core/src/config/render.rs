@@ -1,0 +1,67 @@
+use std::fmt::Write;
+
+use serde_json::Value;
+
+use super::{OutputConfig, PipelineConfig};
+use crate::Registry;
+
+/// The resolved config as TOML, each key preceded by its documentation.
+pub fn render_resolved(config: &PipelineConfig, registry: &Registry) -> String {
+    let mut out = format!("# keylo config resolved from {}\n", config.origin);
+    for (section, stage) in config.stages() {
+        let _ = write!(out, "\n[{section}]\n");
+        let described = registry.describe(section, &stage.kind);
+        if let Some((summary, _)) = &described {
+            let _ = writeln!(out, "# {summary}");
+        }
+        let _ = writeln!(out, "kind = {}", toml::Value::String(stage.kind.clone()));
+        let schema = described.map(|(_, s)| s).unwrap_or(Value::Null);
+        write_table(&mut out, section, &stage.params, &schema, &schema);
+    }
+    out.push_str("\n[output]\n");
+    let schema = schemars::schema_for!(OutputConfig).to_value();
+    if let Ok(table) = toml::Table::try_from(&config.output) {
+        write_table(&mut out, "output", &table, &schema, &schema);
+    }
+    out
+}
+
+fn write_table(out: &mut String, path: &str, table: &toml::Table, schema: &Value, root: &Value) {
+    let props = deref(schema, root).get("properties");
+    let mut nested = Vec::new();
+    for (key, value) in table {
+        let field = props.and_then(|p| p.get(key)).unwrap_or(&Value::Null);
+        if let toml::Value::Table(sub) = value {
+            nested.push((key, sub, field));
+            continue;
+        }
+        if let Some(doc) = field.get("description").and_then(Value::as_str) {
+            for line in doc.lines() {
+                let _ = writeln!(out, "# {line}");
+            }
+        }
+        let _ = writeln!(out, "{key} = {value}");
+    }
+    for (key, sub, field) in nested {
+        let sub_path = format!("{path}.{key}");
+        let _ = write!(out, "\n[{sub_path}]\n");
+        if let Some(doc) = field.get("description").and_then(Value::as_str) {
+            let _ = writeln!(out, "# {doc}");
+        }
+        write_table(out, &sub_path, sub, field, root);
+    }
+}
+
+/// Follows a `$ref` (possibly behind `allOf`) to its definition in `$defs`.
+fn deref<'a>(schema: &'a Value, root: &'a Value) -> &'a Value {
+    let reference = schema
+        .get("$ref")
+        .or_else(|| schema.get("allOf").and_then(|a| a.get(0)).and_then(|s| s.get("$ref")));
+    match reference.and_then(Value::as_str) {
+        Some(r) => r
+            .strip_prefix("#/$defs/")
+            .and_then(|name| root.get("$defs").and_then(|d| d.get(name)))
+            .unwrap_or(schema),
+        None => schema,
+    }
+}

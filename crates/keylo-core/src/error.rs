@@ -1,0 +1,81 @@
+//! Errors of the core crate.
+
+use std::path::PathBuf;
+
+/// An error in a config file or a `--set` override. Every variant names the key path.
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    /// The config file could not be read.
+    #[error("cannot read config file {path}: {source}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The file is not valid TOML.
+    #[error("{origin}: invalid TOML: {message}")]
+    Syntax { origin: String, message: String },
+    /// A top-level section that keylo does not know.
+    #[error("{origin}: unknown section `[{section}]`; allowed sections: {allowed}")]
+    UnknownSection {
+        origin: String,
+        section: String,
+        allowed: String,
+    },
+    /// A `kind` that no registered backend provides.
+    #[error("{origin}: `{section}.kind = \"{kind}\"` is not a known {section} backend; allowed: {allowed}")]
+    UnknownKind {
+        origin: String,
+        section: String,
+        kind: String,
+        allowed: String,
+    },
+    /// A key or value rejected by a backend's parameter schema.
+    #[error("{origin}: `{path}`: {message}")]
+    Invalid {
+        origin: String,
+        path: String,
+        message: String,
+    },
+    /// A malformed `--set key.path=value` override.
+    #[error("--set `{text}`: {message}")]
+    Override { text: String, message: String },
+}
+
+/// An error raised while building or running a stage.
+#[derive(Debug, thiserror::Error)]
+pub enum CoreError {
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// A frame or cloud whose content a stage cannot use.
+    #[error("frame {frame}: {message}")]
+    BadFrame { frame: u64, message: String },
+    /// An input file problem, naming the file.
+    #[error("{path}: {message}")]
+    Input { path: PathBuf, message: String },
+    /// A stage failed for a reason of its own (e.g. a registrar diverged).
+    #[error("{stage}: {message}")]
+    Stage { stage: String, message: String },
+    #[error("I/O error on {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+impl CoreError {
+    /// Shorthand for [`CoreError::Stage`].
+    pub fn stage(stage: impl Into<String>, message: impl Into<String>) -> Self {
+        Self::Stage {
+            stage: stage.into(),
+            message: message.into(),
+        }
+    }
+
+    /// Shorthand for [`CoreError::Input`].
+    pub fn input(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
+        Self::Input {
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+}

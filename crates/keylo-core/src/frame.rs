@@ -1,0 +1,245 @@
+//! Organised LiDAR frames: the rows×cols grid every source produces.
+
+use std::fmt;
+use std::str::FromStr;
+use std::sync::Arc;
+
+use nalgebra::Point3;
+use serde::{Deserialize, Serialize};
+
+use crate::PointCloud;
+
+/// One of the per-pixel channels of a [`LidarFrame`].
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Channel {
+    /// Range in metres.
+    Range,
+    /// Return signal strength (photon counts), "intensity" in ROS drivers.
+    Signal,
+    /// Calibrated reflectivity.
+    Reflectivity,
+    /// Ambient near-infrared light.
+    NearIr,
+}
+
+impl Channel {
+    /// All channels, in storage order.
+    pub const ALL: [Channel; 4] = [
+        Channel::Range,
+        Channel::Signal,
+        Channel::Reflectivity,
+        Channel::NearIr,
+    ];
+
+    /// The config name of the channel.
+    pub fn name(self) -> &'static str {
+        match self {
+            Channel::Range => "range",
+            Channel::Signal => "signal",
+            Channel::Reflectivity => "reflectivity",
+            Channel::NearIr => "near-ir",
+        }
+    }
+}
+
+impl fmt::Display for Channel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Channel {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Channel::ALL
+            .into_iter()
+            .find(|c| c.name() == s)
+            .ok_or_else(|| format!("unknown channel `{s}`; allowed: range, signal, reflectivity, near-ir"))
+    }
+}
+
+/// Intrinsics of a spinning multi-beam sensor, one entry per row (beam).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BeamGeometry {
+    /// Sensor model name, e.g. `OS0-128`.
+    pub model: String,
+    /// Elevation of each beam, degrees, row 0 first (top).
+    pub altitude_deg: Vec<f64>,
+    /// Azimuth offset of each beam, degrees.
+    pub azimuth_deg: Vec<f64>,
+    /// Distance from the lidar origin to the beam origin, millimetres.
+    pub origin_to_beam_mm: f64,
+    /// Columns of one full revolution.
+    pub columns_per_frame: usize,
+    /// Revolutions per second.
+    pub frame_rate_hz: f64,
+}
+
+/// An organised frame: every channel is a row-major `rows × cols` grid.
+///
+/// Pixel `(r, c)` is at index `r * cols + c`. Invalid pixels (no return) have `valid = false`,
+/// range 0 and point at the origin. `points` are in the sensor frame, metres.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LidarFrame {
+    /// Sequence number of the frame in its source.
+    pub index: u64,
+    /// Time of the first column, seconds.
+    pub timestamp: f64,
+    pub rows: usize,
+    pub cols: usize,
+    /// Firing time of every column, seconds (absolute, same clock as `timestamp`).
+    pub column_times: Vec<f64>,
+    /// Range per pixel, metres.
+    pub range: Vec<f32>,
+    /// Signal per pixel.
+    pub signal: Vec<f32>,
+    /// Reflectivity per pixel.
+    pub reflectivity: Vec<f32>,
+    /// Near-IR (ambient) per pixel.
+    pub near_ir: Vec<f32>,
+    /// 3-D point per pixel in the sensor frame.
+    pub points: Vec<Point3<f32>>,
+    /// Whether the pixel holds a return.
+    pub valid: Vec<bool>,
+    /// Beam intrinsics shared by all frames of a sequence.
+    pub beams: Arc<BeamGeometry>,
+}
+
+impl LidarFrame {
+    /// An all-invalid frame of the given size.
+    pub fn empty(index: u64, timestamp: f64, rows: usize, cols: usize, beams: Arc<BeamGeometry>) -> Self {
+        let n = rows * cols;
+        Self {
+            index,
+            timestamp,
+            rows,
+            cols,
+            column_times: vec![timestamp; cols],
+            range: vec![0.0; n],
+            signal: vec![0.0; n],
+            reflectivity: vec![0.0; n],
+            near_ir: vec![0.0; n],
+            points: vec![Point3::origin(); n],
+            valid: vec![false; n],
+            beams,
+        }
+    }
+
+    /// The grid of one channel.
+    pub fn channel(&self, channel: Channel) -> &[f32] {
+        match channel {
+            Channel::Range => &self.range,
+            Channel::Signal => &self.signal,
+            Channel::Reflectivity => &self.reflectivity,
+            Channel::NearIr => &self.near_ir,
+        }
+    }
+
+    /// Number of valid pixels.
+    pub fn valid_count(&self) -> usize {
+        self.valid.iter().filter(|v| **v).count()
+    }
+
+    /// Checks that every grid has `rows * cols` entries and `column_times` has `cols`.
+    pub fn check_shape(&self) -> Result<(), String> {
+        let n = self.rows * self.cols;
+        let grids = [
+            ("range", self.range.len()),
+            ("signal", self.signal.len()),
+            ("reflectivity", self.reflectivity.len()),
+            ("near_ir", self.near_ir.len()),
+            ("points", self.points.len()),
+            ("valid", self.valid.len()),
+        ];
+        for (name, len) in grids {
+            if len != n {
+                return Err(format!("{name} has {len} entries, expected rows*cols = {n}"));
+            }
+        }
+        if self.column_times.len() != self.cols {
+            return Err(format!(
+                "column_times has {} entries, expected cols = {}",
+                self.column_times.len(),
+                self.cols
+            ));
+        }
+        Ok(())
+    }
+
+    /// Every valid pixel with a finite point, as a cloud with per-point times and signal.
+    pub fn to_cloud(&self) -> PointCloud {
+        self.cloud_of_pixels((0..self.rows * self.cols).filter(|&i| self.valid[i]))
+    }
+
+    /// The cloud of the given pixel indices (invalid or non-finite pixels are skipped).
+    pub fn cloud_of_pixels(&self, pixels: impl Iterator<Item = usize>) -> PointCloud {
+        let mut points = Vec::new();
+        let mut times = Vec::new();
+        let mut intensities = Vec::new();
+        for i in pixels {
+            let p = self.points[i];
+            if !self.valid[i] || !p.coords.iter().all(|v| v.is_finite()) {
+                continue;
+            }
+            points.push(p.cast::<f64>());
+            times.push(self.column_times[i % self.cols] - self.timestamp);
+            intensities.push(self.signal[i]);
+        }
+        PointCloud {
+            timestamp: self.timestamp,
+            points,
+            times: Some(times),
+            intensities: Some(intensities),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn beams() -> Arc<BeamGeometry> {
+        Arc::new(BeamGeometry {
+            model: "test".into(),
+            altitude_deg: vec![1.0, -1.0],
+            azimuth_deg: vec![0.0, 0.0],
+            origin_to_beam_mm: 0.0,
+            columns_per_frame: 3,
+            frame_rate_hz: 10.0,
+        })
+    }
+
+    #[test]
+    fn cloud_keeps_valid_finite_pixels_with_times() {
+        let mut f = LidarFrame::empty(0, 10.0, 2, 3, beams());
+        f.column_times = vec![10.0, 10.05, 10.1];
+        f.valid[1] = true;
+        f.points[1] = Point3::new(1.0, 0.0, 0.0);
+        f.valid[4] = true;
+        f.points[4] = Point3::new(f32::NAN, 0.0, 0.0);
+        let c = f.to_cloud();
+        assert_eq!(c.len(), 1);
+        let t = c.times.as_ref().map(|t| t[0]).unwrap_or(f64::NAN);
+        assert!((t - 0.05).abs() < 1e-9);
+        assert!(f.check_shape().is_ok());
+    }
+
+    #[test]
+    fn shape_errors_name_the_grid() {
+        let mut f = LidarFrame::empty(0, 0.0, 2, 3, beams());
+        f.signal.pop();
+        let err = f.check_shape().err().unwrap();
+        assert!(err.contains("signal"), "{err}");
+    }
+
+    #[test]
+    fn channel_names_round_trip() {
+        for c in Channel::ALL {
+            assert_eq!(c.name().parse::<Channel>(), Ok(c));
+        }
+        assert!("rgb".parse::<Channel>().is_err());
+    }
+}

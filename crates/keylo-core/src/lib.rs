@@ -1,0 +1,30 @@
+//! keylo core: the data types every stage exchanges, the stage traits, the config schema,
+//! the registry that maps `kind = "..."` names to constructors, and the [`Pipeline`].
+//!
+//! The data flow of one frame:
+//! `ImageSource` → [`LidarFrame`] → `ImageBuilder` → [`Image`]s → `Detector` → [`Keypoint`]s →
+//! `Descriptor` → [`Descriptors`] → `Downsampler` → [`PointCloud`] → `Registrar` → [`Pose`].
+
+pub mod cloud;
+pub mod config;
+pub mod error;
+pub mod features;
+pub mod frame;
+pub mod image;
+pub mod pipeline;
+pub mod registry;
+pub mod stages;
+pub mod trajectory;
+
+pub use cloud::PointCloud;
+pub use error::{ConfigError, CoreError};
+pub use features::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
+pub use frame::{BeamGeometry, Channel, LidarFrame};
+pub use image::Image;
+pub use pipeline::{FrameResult, Odometry, Pipeline, StageTimings};
+pub use registry::{BuildContext, Registry};
+pub use stages::{
+    Descriptor, Detector, Downsampler, ImageBuilder, ImageSource, Registrar, Registration,
+    SourceInfo,
+};
+pub use trajectory::{Pose, Trajectory};

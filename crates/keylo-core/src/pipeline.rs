@@ -1,0 +1,202 @@
+//! Composes the stages: [`Odometry`] turns frames into poses; [`Pipeline`] adds the source.
+
+use std::time::Instant;
+
+use crate::config::{PipelineConfig, StageConfig};
+use crate::registry::Backends;
+use crate::stages::{Descriptor, Detector, Downsampler, ImageBuilder, ImageSource, Registrar};
+use crate::{
+    BuildContext, ChannelFeatures, CoreError, FrameFeatures, LidarFrame, Pose, Registry,
+};
+
+/// Seconds spent in each stage for one frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimings {
+    pub image: f64,
+    pub detect: f64,
+    pub describe: f64,
+    pub downsample: f64,
+    pub register: f64,
+}
+
+impl StageTimings {
+    /// Sum over stages.
+    pub fn total(&self) -> f64 {
+        self.image + self.detect + self.describe + self.downsample + self.register
+    }
+}
+
+/// The result of one frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameResult {
+    pub index: u64,
+    /// Time the pose refers to, seconds.
+    pub stamp: f64,
+    pub pose: Pose,
+    /// Keypoints found over all images.
+    pub keypoints: usize,
+    /// Points the downsampler passed to the registrar.
+    pub cloud_points: usize,
+    /// Points the registrar used after its own preprocessing.
+    pub registered_points: usize,
+    pub iterations: usize,
+    pub converged: bool,
+    pub timings: StageTimings,
+}
+
+/// The per-frame stages, without a source: embed this to feed frames yourself.
+pub struct Odometry {
+    pub image: Option<Box<dyn ImageBuilder>>,
+    pub detector: Option<Box<dyn Detector>>,
+    pub descriptor: Option<Box<dyn Descriptor>>,
+    pub downsampler: Box<dyn Downsampler>,
+    pub registrar: Box<dyn Registrar>,
+}
+
+fn build_stage<T: ?Sized + 'static>(
+    backends: &Backends<T>,
+    section: &str,
+    stage: &StageConfig,
+    ctx: &BuildContext,
+) -> Result<Box<T>, CoreError> {
+    let factory = backends.get(&stage.kind).ok_or_else(|| {
+        CoreError::stage(section, format!("backend `{}` is not registered", stage.kind))
+    })?;
+    factory.build(&stage.params, ctx)
+}
+
+fn build_optional<T: ?Sized + 'static>(
+    backends: &Backends<T>,
+    section: &str,
+    stage: &StageConfig,
+    ctx: &BuildContext,
+) -> Result<Option<Box<T>>, CoreError> {
+    if stage.is_none() {
+        return Ok(None);
+    }
+    build_stage(backends, section, stage, ctx).map(Some)
+}
+
+impl Odometry {
+    /// Builds the per-frame stages of a resolved config.
+    pub fn build(config: &PipelineConfig, registry: &Registry) -> Result<Self, CoreError> {
+        let ctx = BuildContext {
+            base_dir: config.base_dir.clone(),
+        };
+        let odometry = Self {
+            image: build_optional(&registry.images, "image", &config.image, &ctx)?,
+            detector: build_optional(&registry.detectors, "detector", &config.detector, &ctx)?,
+            descriptor: build_optional(&registry.descriptors, "descriptor", &config.descriptor, &ctx)?,
+            downsampler: build_stage(&registry.downsamplers, "downsampler", &config.downsampler, &ctx)?,
+            registrar: build_stage(&registry.registrars, "registrar", &config.registrar, &ctx)?,
+        };
+        if odometry.detector.is_some() && odometry.image.is_none() {
+            return Err(CoreError::stage(
+                "detector",
+                "a detector needs images: set `[image] kind` to an image builder",
+            ));
+        }
+        Ok(odometry)
+    }
+
+    /// Runs every stage on one frame.
+    pub fn process(&mut self, frame: &LidarFrame) -> Result<FrameResult, CoreError> {
+        frame.check_shape().map_err(|message| CoreError::BadFrame {
+            frame: frame.index,
+            message,
+        })?;
+        let mut timings = StageTimings::default();
+        let features = self.features(frame, &mut timings)?;
+        let t = Instant::now();
+        let cloud = self.downsampler.downsample(frame, &features)?;
+        timings.downsample = t.elapsed().as_secs_f64();
+        if cloud.is_empty() {
+            return Err(CoreError::BadFrame {
+                frame: frame.index,
+                message: format!(
+                    "no valid finite point to register ({} valid pixels of {})",
+                    frame.valid_count(),
+                    frame.rows * frame.cols
+                ),
+            });
+        }
+        let t = Instant::now();
+        let reg = self.registrar.register(&cloud).map_err(|e| match e {
+            CoreError::Stage { stage, message } => CoreError::Stage {
+                stage,
+                message: format!("frame {}: {message}", frame.index),
+            },
+            other => other,
+        })?;
+        timings.register = t.elapsed().as_secs_f64();
+        Ok(FrameResult {
+            index: frame.index,
+            stamp: reg.stamp,
+            pose: reg.pose,
+            keypoints: features.keypoint_count(),
+            cloud_points: cloud.len(),
+            registered_points: reg.source_points,
+            iterations: reg.iterations,
+            converged: reg.converged,
+            timings,
+        })
+    }
+
+    fn features(&mut self, frame: &LidarFrame, timings: &mut StageTimings) -> Result<FrameFeatures, CoreError> {
+        let mut features = FrameFeatures::default();
+        let Some(builder) = self.image.as_mut() else {
+            return Ok(features);
+        };
+        let t = Instant::now();
+        let images = builder.build(frame)?;
+        timings.image = t.elapsed().as_secs_f64();
+        for image in images {
+            let t = Instant::now();
+            let mut keypoints = match self.detector.as_mut() {
+                Some(d) => d.detect(&image)?,
+                None => Vec::new(),
+            };
+            timings.detect += t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            let descriptors = match self.descriptor.as_mut() {
+                Some(d) => Some(d.describe(&image, &mut keypoints)?),
+                None => None,
+            };
+            timings.describe += t.elapsed().as_secs_f64();
+            features.per_image.push(ChannelFeatures {
+                image,
+                keypoints,
+                descriptors,
+            });
+        }
+        Ok(features)
+    }
+}
+
+/// A source plus the per-frame stages: iterate it to run odometry.
+pub struct Pipeline {
+    pub source: Box<dyn ImageSource>,
+    pub odometry: Odometry,
+}
+
+impl Pipeline {
+    /// Builds every stage of a resolved config.
+    pub fn build(config: &PipelineConfig, registry: &Registry) -> Result<Self, CoreError> {
+        let ctx = BuildContext {
+            base_dir: config.base_dir.clone(),
+        };
+        Ok(Self {
+            source: build_stage(&registry.sources, "source", &config.source, &ctx)?,
+            odometry: Odometry::build(config, registry)?,
+        })
+    }
+
+    /// Reads and processes the next frame; `None` at the end of the source.
+    pub fn step(&mut self) -> Option<Result<FrameResult, CoreError>> {
+        let frame = match self.source.next_frame()? {
+            Ok(f) => f,
+            Err(e) => return Some(Err(e)),
+        };
+        Some(self.odometry.process(&frame))
+    }
+}

@@ -1,0 +1,25 @@
+use crate::{CoreError, LidarFrame, Trajectory};
+
+/// What a source knows about itself before reading.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SourceInfo {
+    /// Human-readable description (e.g. the path or the simulated scene).
+    pub description: String,
+    /// Number of frames, when known in advance.
+    pub frames: Option<usize>,
+}
+
+/// Yields organised [`LidarFrame`]s, one per sensor revolution.
+///
+/// Owns: the file handles or simulator state and the decoding of its format. The frames it
+/// yields are owned by the caller. Formats stay inside the source: no other stage sees a file.
+pub trait ImageSource: Send {
+    /// Description and length hint.
+    fn info(&self) -> SourceInfo;
+    /// The next frame, `None` at the end; an `Err` names the file and the frame that failed.
+    fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>>;
+    /// Ground truth shipped with the data (e.g. the simulator's `gt.tum`), if any.
+    fn ground_truth(&self) -> Option<crate::Trajectory> {
+        None::<Trajectory>
+    }
+}

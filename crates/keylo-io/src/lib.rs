@@ -1,0 +1,2 @@
+//! IO (work in progress).
+pub fn register(_r: &mut keylo_core::Registry) {}

@@ -1,0 +1,2 @@
+//! Registration (work in progress).
+pub fn register(_r: &mut keylo_core::Registry) {}
