@@ -1,0 +1,43 @@
+use keylo_core::CoreError;
+
+/// Errors of the registration crate.
+#[derive(Debug, thiserror::Error)]
+pub enum RegistrationError {
+    /// A parameter outside its valid range.
+    #[error("`{field}` = {value}: {expected}")]
+    BadParameter {
+        field: &'static str,
+        value: String,
+        expected: &'static str,
+    },
+    /// An input cloud the registrar cannot use.
+    #[error("{0}")]
+    BadCloud(String),
+}
+
+impl From<RegistrationError> for CoreError {
+    fn from(e: RegistrationError) -> Self {
+        match e {
+            RegistrationError::BadParameter { .. } => CoreError::stage("registrar", e.to_string()),
+            RegistrationError::BadCloud(m) => CoreError::stage("registrar", m),
+        }
+    }
+}
+
+/// Checks `ok`, else a [`RegistrationError::BadParameter`].
+pub(crate) fn check(
+    ok: bool,
+    field: &'static str,
+    value: impl ToString,
+    expected: &'static str,
+) -> Result<(), RegistrationError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(RegistrationError::BadParameter {
+            field,
+            value: value.to_string(),
+            expected,
+        })
+    }
+}

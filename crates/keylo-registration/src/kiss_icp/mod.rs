@@ -1,0 +1,225 @@
+//! KISS-ICP-style registrar: composes [`deskew`], voxel downsampling, [`threshold`],
+//! [`icp`] and the [`voxel_map`], as upstream's `KissICP::RegisterFrame`.
+
+pub mod deskew;
+pub mod icp;
+pub mod threshold;
+pub mod voxel_map;
+
+use keylo_core::{CoreError, PointCloud, Registrar, Registration};
+use nalgebra::{Isometry3, Point3};
+use serde::{Deserialize, Serialize};
+
+use crate::error::check;
+use crate::{voxel, RegistrationError};
+use icp::{IcpSettings, IcpResult};
+use threshold::AdaptiveThreshold;
+use voxel_map::VoxelHashMap;
+
+/// `[registrar] kind = "kiss-icp"`: parameters and defaults of upstream KISS-ICP.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct KissIcpConfig {
+    /// Points farther than this from the sensor are dropped; also the local-map radius (m).
+    pub max_range: f64,
+    /// Points closer than this to the sensor are dropped (m).
+    pub min_range: f64,
+    /// Motion-compensate each scan with per-point times (constant velocity).
+    pub deskew: bool,
+    /// Map voxel edge (m); 0 means max_range / 100, as upstream.
+    pub voxel_size: f64,
+    /// Points kept per map voxel.
+    pub max_points_per_voxel: usize,
+    /// Initial adaptive threshold σ₀ (m).
+    pub initial_threshold: f64,
+    /// Deviations below this (m) do not update the adaptive threshold.
+    pub min_motion_th: f64,
+    /// Fixed correspondence threshold σ (m) instead of the adaptive one; 0 = adaptive.
+    pub fixed_threshold: f64,
+    /// ICP iterations per frame at most.
+    pub max_num_iterations: usize,
+    /// ICP stops when the update's norm falls below this.
+    pub convergence_criterion: f64,
+    /// Worker threads for this registrar; 0 = the process-wide pool.
+    pub max_num_threads: usize,
+}
+
+impl Default for KissIcpConfig {
+    fn default() -> Self {
+        Self {
+            max_range: 100.0,
+            min_range: 0.0,
+            deskew: true,
+            voxel_size: 0.0,
+            max_points_per_voxel: 20,
+            initial_threshold: 2.0,
+            min_motion_th: 0.1,
+            fixed_threshold: 0.0,
+            max_num_iterations: 500,
+            convergence_criterion: 1e-4,
+            max_num_threads: 0,
+        }
+    }
+}
+
+impl KissIcpConfig {
+    /// The voxel size in use (`voxel_size`, or `max_range / 100` when 0).
+    pub fn effective_voxel_size(&self) -> f64 {
+        if self.voxel_size > 0.0 {
+            self.voxel_size
+        } else {
+            self.max_range / 100.0
+        }
+    }
+
+    fn validate(&self) -> Result<(), RegistrationError> {
+        let finite_pos = |v: f64| v.is_finite() && v > 0.0;
+        check(finite_pos(self.max_range), "max_range", self.max_range, "expected a finite value > 0")?;
+        check(
+            self.min_range.is_finite() && self.min_range >= 0.0 && self.min_range < self.max_range,
+            "min_range",
+            self.min_range,
+            "expected 0 <= min_range < max_range",
+        )?;
+        check(self.voxel_size.is_finite() && self.voxel_size >= 0.0, "voxel_size", self.voxel_size, "expected >= 0 (0 = max_range/100)")?;
+        check(self.max_points_per_voxel >= 1, "max_points_per_voxel", self.max_points_per_voxel, "expected >= 1")?;
+        check(finite_pos(self.initial_threshold), "initial_threshold", self.initial_threshold, "expected a finite value > 0")?;
+        check(self.min_motion_th.is_finite() && self.min_motion_th >= 0.0, "min_motion_th", self.min_motion_th, "expected >= 0")?;
+        check(self.fixed_threshold.is_finite() && self.fixed_threshold >= 0.0, "fixed_threshold", self.fixed_threshold, "expected >= 0 (0 = adaptive)")?;
+        check(self.max_num_iterations >= 1, "max_num_iterations", self.max_num_iterations, "expected >= 1")?;
+        check(finite_pos(self.convergence_criterion), "convergence_criterion", self.convergence_criterion, "expected a finite value > 0")
+    }
+}
+
+/// The KISS-ICP odometry state.
+pub struct KissIcp {
+    config: KissIcpConfig,
+    voxel_size: f64,
+    map: VoxelHashMap,
+    threshold: AdaptiveThreshold,
+    last_pose: Isometry3<f64>,
+    last_delta: Isometry3<f64>,
+    pool: Option<rayon::ThreadPool>,
+    scratch: Vec<Point3<f64>>,
+}
+
+impl KissIcp {
+    /// A registrar with an empty map at the identity pose.
+    pub fn new(config: KissIcpConfig) -> Result<Self, RegistrationError> {
+        config.validate()?;
+        let voxel_size = config.effective_voxel_size();
+        let pool = match config.max_num_threads {
+            0 => None,
+            n => rayon::ThreadPoolBuilder::new().num_threads(n).build().ok(),
+        };
+        Ok(Self {
+            map: VoxelHashMap::new(voxel_size, config.max_range, config.max_points_per_voxel),
+            threshold: AdaptiveThreshold::new(config.initial_threshold, config.min_motion_th, config.max_range),
+            voxel_size,
+            config,
+            last_pose: Isometry3::identity(),
+            last_delta: Isometry3::identity(),
+            pool,
+            scratch: Vec::new(),
+        })
+    }
+
+    /// The local map's points (world frame).
+    pub fn local_map(&self) -> Vec<Point3<f64>> {
+        self.map.points()
+    }
+
+    /// The last estimated pose.
+    pub fn pose(&self) -> Isometry3<f64> {
+        self.last_pose
+    }
+
+    /// Deskew and range filter, as upstream's `Preprocessor`.
+    fn preprocess(&self, cloud: &PointCloud) -> Vec<Point3<f64>> {
+        let mut points = cloud.points.clone();
+        if self.config.deskew {
+            if let Some(times) = &cloud.times {
+                deskew::deskew(&mut points, times, &self.last_delta);
+            }
+        }
+        let (min, max) = (self.config.min_range, self.config.max_range);
+        points.retain(|p| {
+            let r = p.coords.norm();
+            r > min && r < max
+        });
+        points
+    }
+
+    fn sigma(&self) -> f64 {
+        if self.config.fixed_threshold > 0.0 {
+            self.config.fixed_threshold
+        } else {
+            self.threshold.threshold()
+        }
+    }
+
+    fn register_points(&mut self, cloud: &PointCloud) -> Result<(IcpResult, usize), RegistrationError> {
+        let frame = self.preprocess(cloud);
+        if frame.is_empty() {
+            return Err(RegistrationError::BadCloud(format!(
+                "no point within min_range {} m and max_range {} m (of {} input points)",
+                self.config.min_range,
+                self.config.max_range,
+                cloud.len()
+            )));
+        }
+        let frame_downsample = voxel::downsample(&frame, self.voxel_size * 0.5);
+        let source = voxel::downsample(&frame_downsample, self.voxel_size * 1.5);
+        let sigma = self.sigma();
+        let initial_guess = self.last_pose * self.last_delta;
+        let settings = IcpSettings {
+            max_iterations: self.config.max_num_iterations,
+            convergence: self.config.convergence_criterion,
+            max_distance: 3.0 * sigma,
+            kernel: sigma,
+        };
+        let result = icp::align(&source, &self.map, &initial_guess, &settings, &mut self.scratch);
+        let new_pose = result.pose;
+        self.threshold.update(&(initial_guess.inverse() * new_pose));
+        self.map.update(&frame_downsample, &new_pose);
+        self.last_delta = self.last_pose.inverse() * new_pose;
+        self.last_pose = new_pose;
+        Ok((result, source.len()))
+    }
+}
+
+impl Registrar for KissIcp {
+    fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
+        if let Some(i) = cloud.first_non_finite() {
+            return Err(RegistrationError::BadCloud(format!(
+                "point {i} has a non-finite coordinate or time"
+            ))
+            .into());
+        }
+        let outcome = match self.pool.take() {
+            Some(pool) => {
+                let r = pool.install(|| self.register_points(cloud));
+                self.pool = Some(pool);
+                r
+            }
+            None => self.register_points(cloud),
+        };
+        let (result, source_points) = outcome?;
+        let end = cloud
+            .times
+            .as_ref()
+            .and_then(|t| t.iter().copied().reduce(f64::max))
+            .unwrap_or(0.0);
+        Ok(Registration {
+            stamp: cloud.timestamp + end,
+            pose: result.pose,
+            source_points,
+            iterations: result.iterations,
+            converged: result.converged || self.map.len() == 0,
+        })
+    }
+
+    fn map_size(&self) -> usize {
+        self.map.len()
+    }
+}

@@ -1,0 +1,132 @@
+//! The local map: a voxel hash holding up to `max_points_per_voxel` points per voxel.
+
+use nalgebra::{Isometry3, Point3, Vector3};
+
+use crate::voxel::{voxel_of, Voxel, VoxelMap};
+
+/// Offsets of the 27 voxels around (and including) a query voxel.
+const NEIGHBOURS: [Voxel; 27] = {
+    let mut out = [[0i32; 3]; 27];
+    let mut i = 0;
+    while i < 27 {
+        out[i] = [(i % 3) as i32 - 1, ((i / 3) % 3) as i32 - 1, (i / 9) as i32 - 1];
+        i += 1;
+    }
+    out
+};
+
+/// A voxel-hash point map, as upstream's `VoxelHashMap`.
+#[derive(Debug, Clone)]
+pub struct VoxelHashMap {
+    voxel_size: f64,
+    max_distance: f64,
+    max_points_per_voxel: usize,
+    map: VoxelMap<Vec<Point3<f64>>>,
+}
+
+impl VoxelHashMap {
+    /// An empty map; points farther than `max_distance` from the sensor are pruned.
+    pub fn new(voxel_size: f64, max_distance: f64, max_points_per_voxel: usize) -> Self {
+        Self {
+            voxel_size,
+            max_distance,
+            max_points_per_voxel,
+            map: VoxelMap::default(),
+        }
+    }
+
+    /// True when the map holds no point.
+    pub fn is_empty(&self) -> bool {
+        self.map.is_empty()
+    }
+
+    /// Number of points in the map.
+    pub fn len(&self) -> usize {
+        self.map.values().map(Vec::len).sum()
+    }
+
+    /// Every map point.
+    pub fn points(&self) -> Vec<Point3<f64>> {
+        self.map.values().flatten().copied().collect()
+    }
+
+    /// Nearest map point to `query` among the 27 voxels around it, with its distance.
+    #[inline]
+    pub fn closest_neighbour(&self, query: &Point3<f64>) -> Option<(Point3<f64>, f64)> {
+        let [vx, vy, vz] = voxel_of(query, self.voxel_size);
+        let mut best: Option<(Point3<f64>, f64)> = None;
+        for [dx, dy, dz] in NEIGHBOURS {
+            let Some(points) = self.map.get(&[vx + dx, vy + dy, vz + dz]) else {
+                continue;
+            };
+            for p in points {
+                let d2 = (p - query).norm_squared();
+                if best.is_none_or(|(_, b)| d2 < b) {
+                    best = Some((*p, d2));
+                }
+            }
+        }
+        best.map(|(p, d2)| (p, d2.sqrt()))
+    }
+
+    /// Adds `points` (sensor frame) seen from `pose`, then prunes far points.
+    pub fn update(&mut self, points: &[Point3<f64>], pose: &Isometry3<f64>) {
+        let resolution2 = self.voxel_size * self.voxel_size / self.max_points_per_voxel as f64;
+        for p in points {
+            self.add_point(pose * p, resolution2);
+        }
+        self.remove_far_from(&pose.translation.vector);
+    }
+
+    fn add_point(&mut self, point: Point3<f64>, resolution2: f64) {
+        let voxel = voxel_of(&point, self.voxel_size);
+        let max = self.max_points_per_voxel;
+        let block = self.map.entry(voxel).or_insert_with(|| Vec::with_capacity(max));
+        if block.len() >= max || block.iter().any(|q| (q - point).norm_squared() < resolution2) {
+            return;
+        }
+        block.push(point);
+    }
+
+    fn remove_far_from(&mut self, origin: &Vector3<f64>) {
+        let max2 = self.max_distance * self.max_distance;
+        self.map
+            .retain(|_, block| block.first().is_some_and(|p| (p.coords - origin).norm_squared() < max2));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn neighbours_cover_the_cube() {
+        let mut n = NEIGHBOURS.to_vec();
+        n.sort_unstable();
+        n.dedup();
+        assert_eq!(n.len(), 27);
+        assert!(n.contains(&[0, 0, 0]) && n.contains(&[-1, 1, -1]));
+    }
+
+    #[test]
+    fn caps_points_per_voxel_and_keeps_spacing() {
+        let mut map = VoxelHashMap::new(1.0, 100.0, 4);
+        let pts: Vec<_> = (0..100).map(|i| Point3::new(0.01 * f64::from(i % 10), 0.5, 0.5)).collect();
+        map.update(&pts, &Isometry3::identity());
+        assert!(map.len() <= 4);
+        // resolution = sqrt(1/4) = 0.5: points 0.01 apart are rejected
+        assert_eq!(map.len(), 1);
+    }
+
+    #[test]
+    fn finds_nearest_across_voxel_borders_and_prunes() {
+        let mut map = VoxelHashMap::new(1.0, 5.0, 20);
+        map.update(&[Point3::new(1.05, 0.0, 0.0), Point3::new(3.0, 0.0, 0.0)], &Isometry3::identity());
+        let (p, d) = map.closest_neighbour(&Point3::new(0.95, 0.0, 0.0)).unwrap();
+        assert!((p.x - 1.05).abs() < 1e-12 && (d - 0.1).abs() < 1e-12);
+        assert!(map.closest_neighbour(&Point3::new(-5.0, 0.0, 0.0)).is_none());
+        let far = Isometry3::translation(10.0, 0.0, 0.0);
+        map.update(&[], &far);
+        assert!(map.is_empty());
+    }
+}

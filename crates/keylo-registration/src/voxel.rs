@@ -1,0 +1,111 @@
+//! Voxel keys, a fixed (deterministic) hasher for them, and first-point voxel downsampling.
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+use nalgebra::Point3;
+
+/// Integer voxel coordinates.
+pub type Voxel = [i32; 3];
+
+/// The voxel holding `p` for voxels of edge `size`.
+#[inline]
+pub fn voxel_of(p: &Point3<f64>, size: f64) -> Voxel {
+    [
+        (p.x / size).floor() as i32,
+        (p.y / size).floor() as i32,
+        (p.z / size).floor() as i32,
+    ]
+}
+
+/// A fixed-seed (FxHash-style) hasher for voxel keys: the same input always gives the same
+/// map layout and iteration order, so runs are reproducible.
+#[derive(Default, Clone, Copy)]
+pub struct VoxelHasher(u64);
+
+const FX_SEED: u64 = 0x51_7c_c1_b7_27_22_0a_95;
+
+impl VoxelHasher {
+    #[inline]
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(FX_SEED);
+    }
+}
+
+impl Hasher for VoxelHasher {
+    #[inline]
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(4) {
+            let mut word = [0u8; 4];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.add(u64::from(u32::from_le_bytes(word)));
+        }
+    }
+    #[inline]
+    fn write_i32(&mut self, v: i32) {
+        self.add(u64::from(v as u32));
+    }
+    #[inline]
+    fn write_usize(&mut self, v: usize) {
+        self.add(v as u64);
+    }
+}
+
+/// A hash map keyed by voxel with the deterministic hasher.
+pub type VoxelMap<V> = HashMap<Voxel, V, BuildHasherDefault<VoxelHasher>>;
+
+/// Keeps the first point of every voxel of edge `size`, in input order (as upstream does).
+///
+/// ```
+/// use keylo_registration::voxel::downsample_indices;
+/// use nalgebra::Point3;
+/// let pts = [Point3::new(0.1, 0.1, 0.1), Point3::new(0.2, 0.2, 0.2), Point3::new(2.0, 0.0, 0.0)];
+/// assert_eq!(downsample_indices(&pts, 1.0), vec![0, 2]);
+/// ```
+pub fn downsample_indices(points: &[Point3<f64>], size: f64) -> Vec<usize> {
+    let mut seen: VoxelMap<()> = VoxelMap::default();
+    seen.reserve(points.len() / 4);
+    let mut kept = Vec::new();
+    for (i, p) in points.iter().enumerate() {
+        if seen.insert(voxel_of(p, size), ()).is_none() {
+            kept.push(i);
+        }
+    }
+    kept
+}
+
+/// The points kept by [`downsample_indices`].
+pub fn downsample(points: &[Point3<f64>], size: f64) -> Vec<Point3<f64>> {
+    downsample_indices(points, size)
+        .into_iter()
+        .map(|i| points[i])
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn negative_coordinates_floor() {
+        assert_eq!(voxel_of(&Point3::new(-0.1, 0.0, 1.0), 1.0), [-1, 0, 1]);
+        assert_eq!(voxel_of(&Point3::new(-1.0, -1.5, 0.99), 0.5), [-2, -3, 1]);
+    }
+
+    #[test]
+    fn one_point_per_voxel() {
+        let pts: Vec<_> = (0..1000)
+            .map(|i| Point3::new(f64::from(i % 10) * 0.1, f64::from(i / 100) * 0.1, 0.0))
+            .collect();
+        let out = downsample(&pts, 0.5);
+        let mut voxels: Vec<_> = out.iter().map(|p| voxel_of(p, 0.5)).collect();
+        voxels.sort_unstable();
+        voxels.dedup();
+        assert_eq!(voxels.len(), out.len());
+        assert_eq!(out.len(), 4);
+    }
+}
