@@ -1,1 +1,27 @@
-//! Evaluation (work in progress).
+//! Trajectory evaluation for keylo, computing the metrics the way
+//! [evo](https://github.com/MichaelGrupp/evo) does.
+//!
+//! * [`io`]: TUM and KITTI trajectory files.
+//! * [`associate`]: stamp matching (`evo --t_max_diff / --t_offset`).
+//! * [`align`]: Umeyama SE(3)/Sim(3) alignment.
+//! * [`ape`]: absolute pose error (`evo_ape -a`), [`rpe`]: relative pose error (`evo_rpe`).
+//! * [`drift`]: KITTI-style drift over path segments.
+//! * [`evaluate`]: all of the above in one call, serialisable for `summary.json`.
+//!
+//! Parity with evo 1.38.1 is checked against committed fixtures in `tests/fixtures/evo/`.
+
+#![warn(missing_docs)]
+
+pub mod align;
+pub mod ape;
+pub mod associate;
+pub mod drift;
+mod error;
+mod evaluate;
+pub mod io;
+pub mod pose_error;
+pub mod rpe;
+pub mod stats;
+
+pub use error::EvalError;
+pub use evaluate::{evaluate, Accuracy, EvalOptions};

@@ -1,2 +1,21 @@
-//! IO (work in progress).
-pub fn register(_r: &mut keylo_core::Registry) {}
+//! keylo data sources and sinks.
+//!
+//! - [`frames`]: keylo's own frame-folder format (the organised grid with every channel),
+//!   written by `keylo sim` and read back as source kind `frames`.
+//! - [`kitti_bin`]: plain KITTI-style `.bin` frames (x y z intensity, float32) for other tools.
+
+mod error;
+pub mod frames;
+pub mod kitti_bin;
+
+pub use error::IoError;
+
+/// Registers source kind `frames` and its `--data` probe.
+pub fn register(registry: &mut keylo_core::Registry) {
+    registry.sources.add::<frames::FramesSourceConfig>(
+        "frames",
+        "a keylo frame folder (keylo-frames.json + frames/*.klf), e.g. written by `keylo sim`",
+        |c, ctx| Ok(Box::new(frames::FramesSource::open(&c, ctx)?)),
+    );
+    registry.add_source_probe("frames", frames::is_frames_dir);
+}

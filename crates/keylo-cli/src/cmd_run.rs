@@ -1,0 +1,196 @@
+//! `keylo run`: build the pipeline from a config, run every frame, write and print results.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use keylo::config::{OnBadFrame, PipelineConfig};
+use keylo::{CoreError, Pipeline, Trajectory};
+
+use crate::args::RunArgs;
+use crate::report::{self, Failure, Summary, Totals};
+use crate::{configs, resources, EXIT_FRAME_FAILED};
+
+pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
+    let registry = keylo::registry();
+    let config = configs::load(&registry, args.config.as_deref(), args.data.as_deref(), &args.sets)?;
+    let out = output_dir(&args, &config)?;
+    std::fs::write(out.join("config.toml"), keylo::config::render_resolved(&config, &registry))
+        .with_context(|| format!("writing {}", out.join("config.toml").display()))?;
+    let mut pipeline = Pipeline::build(&config, &registry)?;
+    let info = pipeline.source.info();
+    tracing::info!("source: {}; output: {}", info.description, out.display());
+
+    let progress = progress_bar(info.frames, quiet);
+    let cpu0 = resources::cpu_seconds();
+    let start = Instant::now();
+    let mut outcome = RunState::default();
+    process_all(&mut pipeline, &config, &progress, &mut outcome);
+    progress.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+
+    let mut summary = Summary {
+        keylo_version: env!("CARGO_PKG_VERSION"),
+        config: config.origin.clone(),
+        source: info.description,
+        frames_skipped: outcome.skipped,
+        failed: outcome.failure,
+        wall_hz: if wall > 0.0 { outcome.totals.frames as f64 / wall } else { 0.0 },
+        peak_rss_mb: resources::peak_rss_mb(),
+        cpu_percent: cpu0.zip(resources::cpu_seconds()).map(|(a, b)| 100.0 * (b - a) / wall.max(1e-9)),
+        path_length_m: outcome.trajectory.path_length(),
+        ..Summary::default()
+    };
+    outcome.totals.fill(&mut summary);
+    add_accuracy(&mut summary, &outcome.trajectory, ground_truth(&args, &config, &pipeline));
+    report::write_outputs(&out, &outcome.trajectory, config.output.tum, config.output.kitti, &summary)?;
+
+    if !quiet {
+        println!("keylo run — {} → {}", summary.source, out.display());
+        print!("{}", report::table(&summary));
+    }
+    if let Some(f) = &summary.failed {
+        eprintln!(
+            "error: stopped at frame {}: {}\n       the {} frames done before it are written to {}",
+            f.frame,
+            f.error,
+            summary.frames,
+            out.display()
+        );
+        return Ok(ExitCode::from(EXIT_FRAME_FAILED));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+#[derive(Default)]
+struct RunState {
+    trajectory: Trajectory,
+    totals: Totals,
+    skipped: usize,
+    failure: Option<Failure>,
+}
+
+fn process_all(pipeline: &mut Pipeline, config: &PipelineConfig, progress: &ProgressBar, st: &mut RunState) {
+    let mut read = 0u64;
+    loop {
+        let frame = match pipeline.source.next_frame() {
+            None => break,
+            Some(Ok(f)) => f,
+            Some(Err(e)) => {
+                st.failure = Some(Failure { frame: read, error: e.to_string() });
+                break;
+            }
+        };
+        read += 1;
+        let t = Instant::now();
+        let result = pipeline.odometry.process(&frame);
+        st.totals.odometry_seconds += t.elapsed().as_secs_f64();
+        progress.inc(1);
+        match result {
+            Ok(r) => {
+                st.trajectory.push(r.stamp, r.pose);
+                st.totals.add(&r);
+            }
+            Err(e @ CoreError::BadFrame { .. }) if config.output.on_bad_frame == OnBadFrame::Skip => {
+                tracing::warn!("skipping: {e}");
+                st.skipped += 1;
+            }
+            Err(e) => {
+                st.failure = Some(Failure { frame: frame.index, error: e.to_string() });
+                break;
+            }
+        }
+    }
+}
+
+fn output_dir(args: &RunArgs, config: &PipelineConfig) -> Result<PathBuf> {
+    let dir = match (&args.out, config.output.dir_path()) {
+        (Some(d), _) => d.clone(),
+        (None, Some(d)) => config.base_dir.join(d),
+        (None, None) => {
+            let secs = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_secs());
+            PathBuf::from("runs").join(timestamp_name(secs))
+        }
+    };
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating output directory {}", dir.display()))?;
+    Ok(dir)
+}
+
+/// `YYYYMMDD-HHMMSS` (UTC) of a Unix time.
+fn timestamp_name(secs: u64) -> String {
+    let days = secs / 86_400;
+    let rem = secs % 86_400;
+    // civil-from-days (Howard Hinnant's algorithm)
+    let z = days as i64 + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}{m:02}{d:02}-{:02}{:02}{:02}", rem / 3600, (rem / 60) % 60, rem % 60)
+}
+
+/// Ground truth: `--gt`, else `[output] gt`, else the source's own, else `DATA/gt.tum`.
+fn ground_truth(args: &RunArgs, config: &PipelineConfig, pipeline: &Pipeline) -> Option<Result<(String, Trajectory)>> {
+    let file = args
+        .gt
+        .clone()
+        .or_else(|| (!config.output.gt.is_empty()).then(|| config.base_dir.join(&config.output.gt)));
+    if let Some(path) = file {
+        return Some(read_gt(&path));
+    }
+    if let Some(gt) = pipeline.source.ground_truth() {
+        return Some(Ok(("source (simulator)".into(), gt)));
+    }
+    let beside = args.data.as_ref().map(|d| d.join("gt.tum")).filter(|p| p.is_file())?;
+    Some(read_gt(&beside))
+}
+
+fn read_gt(path: &Path) -> Result<(String, Trajectory)> {
+    let t = keylo::eval::io::read_trajectory(path).with_context(|| format!("ground truth {}", path.display()))?;
+    Ok((path.display().to_string(), t))
+}
+
+fn add_accuracy(summary: &mut Summary, est: &Trajectory, gt: Option<Result<(String, Trajectory)>>) {
+    match gt {
+        None => {}
+        Some(Err(e)) => summary.accuracy_error = Some(format!("{e:#}")),
+        Some(Ok((name, gt))) => {
+            summary.ground_truth = Some(name);
+            match keylo::eval::evaluate(est, &gt, &keylo::eval::EvalOptions::default()) {
+                Ok(a) => summary.accuracy = Some(a),
+                Err(e) => summary.accuracy_error = Some(e.to_string()),
+            }
+        }
+    }
+    if let Some(e) = &summary.accuracy_error {
+        tracing::warn!("no accuracy figures: {e}");
+    }
+}
+
+fn progress_bar(len: Option<usize>, quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(len.map(|n| n as u64), indicatif::ProgressDrawTarget::stderr());
+    let style = ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {per_sec}  eta {eta}")
+        .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style);
+    bar
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn timestamps_are_civil_dates() {
+        assert_eq!(super::timestamp_name(0), "19700101-000000");
+        assert_eq!(super::timestamp_name(1_795_000_000), "20261118-110640");
+    }
+}

@@ -1,0 +1,51 @@
+//! Loading configs: file or built-in demo, then `--data` and `--set` overrides.
+
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use keylo::config::{PipelineConfig, RawConfig};
+use keylo::Registry;
+
+/// The built-in demo config (`configs/demo.toml`).
+pub const DEMO: &str = include_str!("../../../configs/demo.toml");
+
+/// Reads `file` (or the demo when `None` and no `--data`), applies `--data` and `--set`, and
+/// resolves it against the registry.
+pub fn load(
+    registry: &Registry,
+    file: Option<&Path>,
+    data: Option<&Path>,
+    sets: &[String],
+) -> Result<PipelineConfig> {
+    let mut raw = match (file, data) {
+        (Some(path), _) => RawConfig::from_file(path)?,
+        (None, None) => RawConfig::parse("built-in demo (configs/demo.toml)", DEMO)?,
+        (None, Some(_)) => RawConfig::builtin(),
+    };
+    if let Some(data) = data {
+        apply_data(registry, &mut raw, data)?;
+    }
+    for s in sets {
+        raw.set(s)?;
+    }
+    Ok(registry.resolve(&raw)?)
+}
+
+fn apply_data(registry: &Registry, raw: &mut RawConfig, data: &Path) -> Result<()> {
+    if !data.exists() {
+        bail!("--data {}: no such file or directory", data.display());
+    }
+    let kind = registry.detect_source(data).with_context(|| {
+        format!(
+            "--data {}: no source recognises this data (readable kinds: {})",
+            data.display(),
+            registry.probed_kinds().join(", ")
+        )
+    })?;
+    let path = std::path::absolute(data).unwrap_or_else(|_| data.to_path_buf());
+    let mut table = toml::Table::new();
+    table.insert("kind".into(), toml::Value::String(kind.into()));
+    table.insert("path".into(), toml::Value::String(path.display().to_string()));
+    raw.replace_section("source", table);
+    Ok(())
+}

@@ -1,0 +1,146 @@
+//! What a run writes and prints: trajectories, `summary.json`, the result table.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use keylo::eval::Accuracy;
+use keylo::{FrameResult, StageTimings, Trajectory};
+use serde::Serialize;
+
+/// Mean milliseconds per frame spent in each stage.
+#[derive(Debug, Default, Serialize)]
+pub struct StageMs {
+    pub image: f64,
+    pub detect: f64,
+    pub describe: f64,
+    pub downsample: f64,
+    pub register: f64,
+}
+
+/// The frame that stopped a run.
+#[derive(Debug, Serialize)]
+pub struct Failure {
+    /// Frame index in the source (or the count of frames read, if the source itself failed).
+    pub frame: u64,
+    pub error: String,
+}
+
+/// `summary.json`.
+#[derive(Debug, Default, Serialize)]
+pub struct Summary {
+    pub keylo_version: &'static str,
+    pub config: String,
+    pub source: String,
+    pub frames: usize,
+    pub frames_skipped: usize,
+    pub failed: Option<Failure>,
+    /// Frames per second of the odometry stages alone (source reading excluded).
+    pub odometry_hz: f64,
+    /// Frames per second end to end, source included.
+    pub wall_hz: f64,
+    pub mean_keypoints: f64,
+    /// Mean points the downsampler handed to the registrar.
+    pub mean_cloud_points: f64,
+    /// Mean points the registrar aligned after its own voxel downsampling.
+    pub mean_registered_points: f64,
+    pub mean_iterations: f64,
+    pub frames_not_converged: usize,
+    pub stage_ms: StageMs,
+    pub peak_rss_mb: Option<f64>,
+    pub cpu_percent: Option<f64>,
+    pub path_length_m: f64,
+    pub ground_truth: Option<String>,
+    pub accuracy: Option<Accuracy>,
+    /// Why accuracy is missing although ground truth was given.
+    pub accuracy_error: Option<String>,
+}
+
+/// Running sums over frames.
+#[derive(Debug, Default)]
+pub struct Totals {
+    pub frames: usize,
+    pub keypoints: usize,
+    pub cloud_points: usize,
+    pub registered_points: usize,
+    pub iterations: usize,
+    pub not_converged: usize,
+    pub timings: StageTimings,
+    pub odometry_seconds: f64,
+}
+
+impl Totals {
+    pub fn add(&mut self, r: &FrameResult) {
+        self.frames += 1;
+        self.keypoints += r.keypoints;
+        self.cloud_points += r.cloud_points;
+        self.registered_points += r.registered_points;
+        self.iterations += r.iterations;
+        self.not_converged += usize::from(!r.converged);
+        let t = &mut self.timings;
+        t.image += r.timings.image;
+        t.detect += r.timings.detect;
+        t.describe += r.timings.describe;
+        t.downsample += r.timings.downsample;
+        t.register += r.timings.register;
+    }
+
+    pub fn fill(&self, s: &mut Summary) {
+        let n = self.frames.max(1) as f64;
+        s.frames = self.frames;
+        s.mean_keypoints = self.keypoints as f64 / n;
+        s.mean_cloud_points = self.cloud_points as f64 / n;
+        s.mean_registered_points = self.registered_points as f64 / n;
+        s.mean_iterations = self.iterations as f64 / n;
+        s.frames_not_converged = self.not_converged;
+        s.odometry_hz = if self.odometry_seconds > 0.0 { self.frames as f64 / self.odometry_seconds } else { 0.0 };
+        let ms = |v: f64| 1e3 * v / n;
+        let t = &self.timings;
+        s.stage_ms = StageMs {
+            image: ms(t.image),
+            detect: ms(t.detect),
+            describe: ms(t.describe),
+            downsample: ms(t.downsample),
+            register: ms(t.register),
+        };
+    }
+}
+
+/// Writes the trajectory files the config asks for, and `summary.json`.
+pub fn write_outputs(dir: &Path, traj: &Trajectory, tum: bool, kitti: bool, summary: &Summary) -> Result<()> {
+    if tum {
+        let p = dir.join("trajectory.tum");
+        keylo::eval::io::write_tum(&p, traj).with_context(|| format!("writing {}", p.display()))?;
+    }
+    if kitti {
+        let p = dir.join("trajectory.kitti");
+        keylo::eval::io::write_kitti(&p, traj).with_context(|| format!("writing {}", p.display()))?;
+    }
+    let p = dir.join("summary.json");
+    let text = serde_json::to_string_pretty(summary)?;
+    std::fs::write(&p, text).with_context(|| format!("writing {}", p.display()))?;
+    Ok(())
+}
+
+/// The human-readable result table.
+pub fn table(s: &Summary) -> String {
+    let opt = |v: Option<f64>, digits: usize| v.map_or("-".to_string(), |v| format!("{v:.digits$}"));
+    let acc = s.accuracy.as_ref();
+    let rows = [
+        ("frames", s.frames.to_string()),
+        ("odometry rate (Hz)", format!("{:.1}", s.odometry_hz)),
+        ("end-to-end rate (Hz)", format!("{:.1}", s.wall_hz)),
+        ("points to registrar (mean)", format!("{:.0}", s.mean_cloud_points)),
+        ("points registered (mean)", format!("{:.0}", s.mean_registered_points)),
+        ("ATE RMSE (m)", opt(acc.map(|a| a.ate_rmse_m), 4)),
+        ("RPE trans (m/frame)", opt(acc.map(|a| a.rpe_trans_rmse_m), 4)),
+        ("RPE rot (deg/frame)", opt(acc.map(|a| a.rpe_rot_rmse_deg), 4)),
+        ("drift (%)", opt(acc.and_then(|a| a.drift_pct), 3)),
+        ("peak RSS (MB)", opt(s.peak_rss_mb, 1)),
+        ("CPU (%)", opt(s.cpu_percent, 0)),
+    ];
+    let mut out = String::new();
+    for (k, v) in rows {
+        out.push_str(&format!("  {k:<28} {v:>12}\n"));
+    }
+    out
+}

@@ -1,0 +1,70 @@
+//! The commands work end to end on small simulated data.
+
+mod common;
+
+use common::{keylo, small_sim, stderr, stdout};
+
+#[test]
+fn run_writes_trajectories_summary_and_config() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 8);
+    let out = tmp.path().join("out");
+    let o = keylo(&["run", "--data", data.to_str().unwrap(), "--out", out.to_str().unwrap()], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["trajectory.tum", "trajectory.kitti", "summary.json", "config.toml"] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let table = stdout(&o);
+    assert!(table.contains("ATE RMSE (m)") && table.contains("frames"), "{table}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["frames"], 8);
+    assert!(summary["accuracy"]["ate_rmse_m"].as_f64().is_some(), "{summary}");
+    assert!(summary["peak_rss_mb"].as_f64().unwrap_or(0.0) > 0.0);
+    // The resolved config is itself a valid config.
+    let o = keylo(&["config", "show", out.join("config.toml").to_str().unwrap()], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn config_show_fills_defaults_with_docs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = keylo(&["config", "show", "--set", "registrar.voxel_size=0.5"], tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("voxel_size = 0.5"), "{text}");
+    assert!(text.contains("max_points_per_voxel = 20"), "{text}");
+    assert!(text.contains("# Points kept per map voxel."), "{text}");
+    assert!(text.contains("[output]") && text.contains("on_bad_frame = \"stop\""), "{text}");
+}
+
+#[test]
+fn config_kinds_and_docs_list_backends() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = keylo(&["config", "kinds"], tmp.path());
+    assert!(stdout(&o).contains("kiss-icp") && stdout(&o).contains("passthrough"));
+    let o = keylo(&["config", "docs"], tmp.path());
+    assert!(stdout(&o).contains("| `max_points_per_voxel` | `20` |"), "{}", stdout(&o));
+}
+
+#[test]
+fn kitti_bin_export_writes_bins_and_index_stamped_gt() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = keylo(
+        &["sim", "--frames", "3", "--format", "kitti-bin", "--out", "bins", "--set", "sensor=os1-64", "-q"],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bins = tmp.path().join("bins/velodyne");
+    assert_eq!(std::fs::read_dir(&bins).unwrap().count(), 3);
+    let pts = keylo::io::kitti_bin::read_kitti_bin(&bins.join("000000.bin")).unwrap();
+    assert!(pts.len() > 1000);
+    let gt = std::fs::read_to_string(tmp.path().join("bins/gt.tum")).unwrap();
+    let stamps: Vec<f64> = gt
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split_whitespace().next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(stamps, vec![0.0, 1.0, 2.0]);
+}

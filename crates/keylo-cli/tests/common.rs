@@ -1,0 +1,33 @@
+//! Helpers for the CLI tests: run the real `keylo` binary.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+pub fn keylo(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_keylo"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the keylo binary runs")
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// A small simulated frame folder (OS1-64, 512 columns) for fast tests.
+pub fn small_sim(dir: &Path, frames: usize) {
+    let out = dir.to_str().expect("utf-8 temp path");
+    let o = keylo(
+        &[
+            "sim", "--scene", "lab", "--frames", &frames.to_string(), "--out", out, "--set",
+            "sensor=os1-64", "--set", "columns=512", "-q",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "sim failed: {}", stderr(&o));
+}

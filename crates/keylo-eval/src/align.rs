@@ -1,0 +1,225 @@
+//! Umeyama alignment (SE(3) or Sim(3)), as evo's `geometry.umeyama_alignment`.
+
+use keylo_core::{Pose, Trajectory};
+use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
+
+use crate::EvalError;
+
+/// A similarity `y ≈ scale · rotation · x + translation` (scale is 1 for SE(3)).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Alignment {
+    /// Rotation part.
+    pub rotation: UnitQuaternion<f64>,
+    /// Translation part.
+    pub translation: Vector3<f64>,
+    /// Scale factor (1 unless Sim(3) alignment was asked for).
+    pub scale: f64,
+}
+
+impl Alignment {
+    /// The identity alignment.
+    pub fn identity() -> Self {
+        Self {
+            rotation: UnitQuaternion::identity(),
+            translation: Vector3::zeros(),
+            scale: 1.0,
+        }
+    }
+
+    /// The rigid part `(rotation, translation)`, ignoring the scale.
+    pub fn isometry(&self) -> Isometry3<f64> {
+        Isometry3::from_parts(Translation3::from(self.translation), self.rotation)
+    }
+
+    /// Maps a point: `scale · R · p + t`.
+    pub fn transform_point(&self, p: &Point3<f64>) -> Point3<f64> {
+        Point3::from(self.rotation * (p.coords * self.scale) + self.translation)
+    }
+
+    /// Maps a pose as evo does: its translation is scaled, then the rigid part is
+    /// left-multiplied (`T · pose`).
+    pub fn apply(&self, pose: &Pose) -> Pose {
+        let scaled = Pose::from_parts(
+            Translation3::from(pose.translation.vector * self.scale),
+            pose.rotation,
+        );
+        self.isometry() * scaled
+    }
+
+    /// Maps every pose of a trajectory; stamps are kept.
+    pub fn apply_trajectory(&self, traj: &Trajectory) -> Trajectory {
+        Trajectory {
+            stamps: traj.stamps.clone(),
+            poses: traj.poses.iter().map(|p| self.apply(p)).collect(),
+        }
+    }
+}
+
+/// Least-squares similarity mapping points `x` onto points `y` (Umeyama 1991).
+///
+/// Same steps as evo: centre both sets, `Σ = (1/n) Σᵢ (yᵢ−μy)(xᵢ−μx)ᵀ`, `Σ = U D Vᵀ`,
+/// `S = diag(1, 1, ±1)` (−1 when `det U · det V < 0`), `R = U S Vᵀ`,
+/// `c = tr(D S) / σx²` (only `with_scale`, else 1), `t = μy − c R μx`.
+/// Fails with fewer than 3 pairs or when fewer than 2 singular values exceed machine epsilon.
+///
+/// ```
+/// use nalgebra::{Point3, UnitQuaternion, Vector3};
+/// let x = [Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 2.0, 0.0), Point3::new(0.0, 0.0, 3.0)];
+/// let q = UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3);
+/// let y: Vec<_> = x.iter().map(|p| q * p + Vector3::new(1.0, 2.0, 3.0)).collect();
+/// let a = keylo_eval::align::umeyama(&x, &y, false)?;
+/// assert!(a.rotation.angle_to(&q) < 1e-12);
+/// assert!((a.translation - Vector3::new(1.0, 2.0, 3.0)).norm() < 1e-12);
+/// # Ok::<(), keylo_eval::EvalError>(())
+/// ```
+pub fn umeyama(
+    x: &[Point3<f64>],
+    y: &[Point3<f64>],
+    with_scale: bool,
+) -> Result<Alignment, EvalError> {
+    check_sizes(x, y)?;
+    let (mean_x, mean_y) = (centroid(x), centroid(y));
+    let n = x.len() as f64;
+    let sigma_x = x.iter().map(|p| (p - mean_x).norm_squared()).sum::<f64>() / n;
+    let cov = covariance(x, y, &mean_x, &mean_y) / n;
+    let svd = cov.svd(true, true);
+    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
+        return Err(EvalError::Degenerate { rank: 0 });
+    };
+    let d = svd.singular_values;
+    let rank = d.iter().filter(|&&s| s > f64::EPSILON).count();
+    if rank < 2 {
+        return Err(EvalError::Degenerate { rank });
+    }
+    let mut s = Vector3::new(1.0, 1.0, 1.0);
+    if u.determinant() * v_t.determinant() < 0.0 {
+        s.z = -1.0;
+    }
+    let r = u * Matrix3::from_diagonal(&s) * v_t;
+    let scale = if with_scale { d.dot(&s) / sigma_x } else { 1.0 };
+    let translation = mean_y.coords - scale * (r * mean_x.coords);
+    let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r));
+    Ok(Alignment {
+        rotation,
+        translation,
+        scale,
+    })
+}
+
+fn check_sizes(x: &[Point3<f64>], y: &[Point3<f64>]) -> Result<(), EvalError> {
+    if x.len() != y.len() {
+        return Err(EvalError::LengthMismatch {
+            reference: "target points".to_string(),
+            reference_len: y.len(),
+            estimate: "source points".to_string(),
+            estimate_len: x.len(),
+        });
+    }
+    if x.len() < 3 {
+        return Err(EvalError::TooFewPoints { found: x.len() });
+    }
+    Ok(())
+}
+
+fn centroid(points: &[Point3<f64>]) -> Point3<f64> {
+    let sum: Vector3<f64> = points.iter().map(|p| p.coords).sum();
+    Point3::from(sum / points.len() as f64)
+}
+
+fn covariance(
+    x: &[Point3<f64>],
+    y: &[Point3<f64>],
+    mx: &Point3<f64>,
+    my: &Point3<f64>,
+) -> Matrix3<f64> {
+    x.iter()
+        .zip(y)
+        .map(|(px, py)| (py - my) * (px - mx).transpose())
+        .sum()
+}
+
+/// Positions of a trajectory as points.
+pub fn positions(traj: &Trajectory) -> Vec<Point3<f64>> {
+    traj.poses
+        .iter()
+        .map(|p| Point3::from(p.translation.vector))
+        .collect()
+}
+
+/// Umeyama alignment of `estimate`'s positions onto `reference`'s (pose-for-pose paired),
+/// as evo's `traj_est.align(traj_ref)`; apply it with [`Alignment::apply_trajectory`].
+pub fn align_trajectory(
+    estimate: &Trajectory,
+    reference: &Trajectory,
+    with_scale: bool,
+) -> Result<Alignment, EvalError> {
+    umeyama(&positions(estimate), &positions(reference), with_scale)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube() -> Vec<Point3<f64>> {
+        (0..8)
+            .map(|i| {
+                Point3::new(
+                    (i & 1) as f64,
+                    ((i >> 1) & 1) as f64 * 2.0,
+                    (i >> 2) as f64 * 3.0,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn recovers_similarity() {
+        let x = cube();
+        let truth = Alignment {
+            rotation: UnitQuaternion::from_euler_angles(-0.4, 0.9, 2.5),
+            translation: Vector3::new(-3.0, 4.0, 0.5),
+            scale: 1.7,
+        };
+        let y: Vec<_> = x.iter().map(|p| truth.transform_point(p)).collect();
+        let a = umeyama(&x, &y, true).unwrap();
+        assert!(a.rotation.angle_to(&truth.rotation) < 1e-12);
+        assert!((a.scale - 1.7).abs() < 1e-12);
+        assert!((a.translation - truth.translation).norm() < 1e-12);
+    }
+
+    #[test]
+    fn too_few_and_collinear_points_fail() {
+        let two = [Point3::origin(), Point3::new(1.0, 0.0, 0.0)];
+        assert!(matches!(
+            umeyama(&two, &two, false),
+            Err(EvalError::TooFewPoints { found: 2 })
+        ));
+        let line: Vec<_> = (0..5).map(|i| Point3::new(i as f64, 0.0, 0.0)).collect();
+        assert!(matches!(
+            umeyama(&line, &line, false),
+            Err(EvalError::Degenerate { rank: 1 })
+        ));
+    }
+
+    #[test]
+    fn planar_points_are_fine() {
+        let x: Vec<_> = (0..6)
+            .map(|i| Point3::new(i as f64, (i * i) as f64, 0.0))
+            .collect();
+        let q = UnitQuaternion::from_euler_angles(0.0, 0.0, 1.0);
+        let y: Vec<_> = x.iter().map(|p| q * p).collect();
+        let a = umeyama(&x, &y, false).unwrap();
+        assert!(a.rotation.angle_to(&q) < 1e-12);
+    }
+
+    #[test]
+    fn apply_scales_translation_then_moves() {
+        let a = Alignment {
+            rotation: UnitQuaternion::identity(),
+            translation: Vector3::new(1.0, 0.0, 0.0),
+            scale: 2.0,
+        };
+        let p = a.apply(&Pose::translation(1.0, 1.0, 1.0));
+        assert_eq!(p.translation.vector, Vector3::new(3.0, 2.0, 2.0));
+    }
+}

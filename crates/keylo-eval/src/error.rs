@@ -1,0 +1,165 @@
+//! The crate's single error type.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while reading trajectories or computing metrics.
+///
+/// File-related variants carry a `file` label (the file path, or the label given to the
+/// in-memory parsers) and a 1-based line number, so messages read like
+/// `gt.tum line 7: expected 8 numbers, found 5`.
+#[derive(Debug, thiserror::Error)]
+pub enum EvalError {
+    /// The file could not be opened or read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Read {
+        /// File that failed.
+        path: PathBuf,
+        /// Underlying I/O error.
+        source: std::io::Error,
+    },
+    /// The file could not be written.
+    #[error("{}: cannot write: {source}", path.display())]
+    Write {
+        /// File that failed.
+        path: PathBuf,
+        /// Underlying I/O error.
+        source: std::io::Error,
+    },
+    /// The file holds no data line (empty, or only blank lines and comments).
+    #[error("{file}: no poses (the file is empty or holds only comments)")]
+    Empty {
+        /// File label.
+        file: String,
+    },
+    /// A data line has the wrong number of columns.
+    #[error("{file} line {line}: expected {expected} numbers, found {found}")]
+    ColumnCount {
+        /// File label.
+        file: String,
+        /// 1-based line number.
+        line: usize,
+        /// What the format requires, e.g. "8" or "8 (TUM) or 12 (KITTI)".
+        expected: String,
+        /// Columns found.
+        found: usize,
+    },
+    /// A token is not a number.
+    #[error("{file} line {line}, column {column}: '{token}' is not a number")]
+    NotANumber {
+        /// File label.
+        file: String,
+        /// 1-based line number.
+        line: usize,
+        /// 1-based column number.
+        column: usize,
+        /// The offending text.
+        token: String,
+    },
+    /// A number is NaN or infinite.
+    #[error("{file} line {line}, column {column}: value '{token}' is not finite")]
+    NonFinite {
+        /// File label.
+        file: String,
+        /// 1-based line number.
+        line: usize,
+        /// 1-based column number.
+        column: usize,
+        /// The offending text.
+        token: String,
+    },
+    /// A quaternion cannot be normalised (norm close to zero).
+    #[error("{file} line {line}: quaternion (qx qy qz qw) has norm {norm:e}, cannot normalise it")]
+    BadQuaternion {
+        /// File label.
+        file: String,
+        /// 1-based line number.
+        line: usize,
+        /// Its norm.
+        norm: f64,
+    },
+    /// A 3x3 block is too far from a rotation matrix to be re-orthonormalised.
+    #[error("{file} line {line}: the 3x3 block is not a rotation matrix ({reason})")]
+    BadRotation {
+        /// File label.
+        file: String,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// `read_kitti_with_times` got a times vector of the wrong length.
+    #[error("{file}: {poses} poses but {times} timestamps were given")]
+    TimesMismatch {
+        /// File label.
+        file: String,
+        /// Poses in the file.
+        poses: usize,
+        /// Timestamps given.
+        times: usize,
+    },
+    /// Association found no pair of stamps within the allowed difference.
+    #[error(
+        "found no matching timestamps between {reference} and {estimate} \
+         with max. time diff {max_diff} s and time offset {offset} s"
+    )]
+    NoMatches {
+        /// Reference label.
+        reference: String,
+        /// Estimate label.
+        estimate: String,
+        /// Allowed stamp difference, seconds.
+        max_diff: f64,
+        /// Offset added to the estimate's stamps, seconds.
+        offset: f64,
+    },
+    /// Two trajectories that must be pose-for-pose paired differ in length.
+    #[error("{reference} has {reference_len} poses but {estimate} has {estimate_len}")]
+    LengthMismatch {
+        /// Reference label.
+        reference: String,
+        /// Its length.
+        reference_len: usize,
+        /// Estimate label.
+        estimate: String,
+        /// Its length.
+        estimate_len: usize,
+    },
+    /// Umeyama alignment needs at least 3 point pairs.
+    #[error("alignment needs at least 3 point pairs, got {found}")]
+    TooFewPoints {
+        /// Points given.
+        found: usize,
+    },
+    /// Umeyama alignment on (nearly) collinear or coincident points.
+    #[error("degenerate covariance rank ({rank} of 3), Umeyama alignment is not possible")]
+    Degenerate {
+        /// Number of singular values above machine epsilon.
+        rank: usize,
+    },
+    /// The chosen delta selects no pose pair.
+    #[error(
+        "delta = {delta} produced an empty list of pose pairs ({poses} poses); try a lower value"
+    )]
+    NoPairs {
+        /// Human-readable delta, e.g. "10 m".
+        delta: String,
+        /// Number of poses.
+        poses: usize,
+    },
+    /// No segment of the requested lengths fits into the trajectory.
+    #[error("no drift segment fits: path is {path_length:.3} m, shortest segment {shortest:.3} m")]
+    NoSegments {
+        /// Reference path length, metres.
+        path_length: f64,
+        /// Shortest requested segment, metres.
+        shortest: f64,
+    },
+    /// An option has an invalid value.
+    #[error("invalid option {name}: {reason}")]
+    InvalidOption {
+        /// Option name.
+        name: &'static str,
+        /// Why it is invalid.
+        reason: String,
+    },
+}

@@ -1,0 +1,101 @@
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use keylo_core::{BeamGeometry, BuildContext, CoreError, ImageSource, LidarFrame, SourceInfo};
+use serde::{Deserialize, Serialize};
+
+use super::{codec, Manifest, FRAMES_DIR, MANIFEST};
+use crate::IoError;
+
+/// `[source] kind = "frames"`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct FramesSourceConfig {
+    /// The frame folder (holding keylo-frames.json); relative to the config file.
+    pub path: String,
+    /// Index of the first frame to read.
+    pub start: usize,
+    /// Frames to read at most; 0 = all.
+    pub max_frames: usize,
+}
+
+/// True when `path` is a folder with a `keylo-frames.json` manifest.
+pub fn is_frames_dir(path: &Path) -> bool {
+    path.join(MANIFEST).is_file()
+}
+
+/// Reads a keylo frame folder frame by frame.
+pub struct FramesSource {
+    dir: PathBuf,
+    files: Vec<PathBuf>,
+    next: usize,
+    beams: Arc<BeamGeometry>,
+}
+
+impl FramesSource {
+    /// Opens a folder; errors name the folder or file that is wrong.
+    pub fn open(config: &FramesSourceConfig, ctx: &BuildContext) -> Result<Self, IoError> {
+        if config.path.is_empty() {
+            return Err(IoError::format(
+                Path::new("source.path"),
+                "no frame folder given: set `[source] path` or pass --data",
+            ));
+        }
+        let dir = ctx.resolve_path(&config.path);
+        let manifest_path = dir.join(MANIFEST);
+        if !manifest_path.is_file() {
+            return Err(IoError::format(&dir, format!("not a keylo frame folder: {MANIFEST} is missing")));
+        }
+        let manifest = Manifest::read(&manifest_path)?;
+        let mut files = list_frames(&dir.join(FRAMES_DIR))?;
+        if files.len() != manifest.frames {
+            return Err(IoError::format(
+                &manifest_path,
+                format!("lists {} frames but {} holds {}", manifest.frames, FRAMES_DIR, files.len()),
+            ));
+        }
+        if files.is_empty() {
+            return Err(IoError::format(&dir, "the folder holds no frame"));
+        }
+        let end = match config.max_frames {
+            0 => files.len(),
+            n => (config.start + n).min(files.len()),
+        };
+        files = files.get(config.start.min(end)..end).map(<[_]>::to_vec).unwrap_or_default();
+        Ok(Self {
+            dir,
+            files,
+            next: 0,
+            beams: Arc::new(manifest.beams),
+        })
+    }
+}
+
+fn list_frames(dir: &Path) -> Result<Vec<PathBuf>, IoError> {
+    let entries = std::fs::read_dir(dir).map_err(|e| IoError::io(dir, e))?;
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "klf"))
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+impl ImageSource for FramesSource {
+    fn info(&self) -> SourceInfo {
+        SourceInfo {
+            description: format!("keylo frames {}", self.dir.display()),
+            frames: Some(self.files.len()),
+        }
+    }
+
+    fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>> {
+        let path = self.files.get(self.next)?;
+        self.next += 1;
+        let frame = std::fs::read(path)
+            .map_err(|e| IoError::io(path, e))
+            .and_then(|bytes| codec::decode(path, &bytes, &self.beams));
+        Some(frame.map_err(CoreError::from))
+    }
+}

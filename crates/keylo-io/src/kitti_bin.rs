@@ -1,0 +1,45 @@
+//! KITTI-style `.bin` frames: `x y z intensity` as little-endian float32, valid points only.
+
+use std::io::Write;
+use std::path::Path;
+
+use keylo_core::LidarFrame;
+
+use crate::IoError;
+
+/// Writes the valid, finite points of `frame` with their signal as intensity.
+pub fn write_kitti_bin(path: &Path, frame: &LidarFrame) -> Result<usize, IoError> {
+    let mut bytes = Vec::with_capacity(frame.valid_count() * 16);
+    let mut n = 0;
+    for i in 0..frame.rows * frame.cols {
+        let p = frame.points[i];
+        if !frame.valid[i] || !p.coords.iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        for v in [p.x, p.y, p.z, frame.signal[i]] {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+        n += 1;
+    }
+    let mut file = std::fs::File::create(path).map_err(|e| IoError::io(path, e))?;
+    file.write_all(&bytes).map_err(|e| IoError::io(path, e))?;
+    Ok(n)
+}
+
+/// Reads a `.bin` frame back as `[x, y, z, intensity]` rows.
+pub fn read_kitti_bin(path: &Path) -> Result<Vec<[f32; 4]>, IoError> {
+    let bytes = std::fs::read(path).map_err(|e| IoError::io(path, e))?;
+    if bytes.len() % 16 != 0 {
+        return Err(IoError::format(
+            path,
+            format!("size {} is not a multiple of 16 bytes (4 float32 per point)", bytes.len()),
+        ));
+    }
+    Ok(bytes
+        .chunks_exact(16)
+        .map(|c| {
+            let f = |k: usize| f32::from_le_bytes([c[k], c[k + 1], c[k + 2], c[k + 3]]);
+            [f(0), f(4), f(8), f(12)]
+        })
+        .collect())
+}

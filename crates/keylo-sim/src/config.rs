@@ -1,0 +1,198 @@
+//! The simulator's parameters (`[source] kind = "sim"`).
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+use crate::SimError;
+
+/// Which synthetic world to fly the sensor through.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum SceneKind {
+    /// A 14 m × 9 m × 3 m room with furniture; the sensor walks a loop at ~1 m/s.
+    #[default]
+    Lab,
+    /// An 80 m × 2.4 m × 3 m hall, geometrically degenerate along its axis, with posters;
+    /// the sensor walks along it at ~1.2 m/s.
+    Corridor,
+    /// A closed loop road of ~750 m with buildings, gaps, poles, trees and parked cars;
+    /// the sensor drives at ~8 m/s.
+    Road,
+}
+
+impl SceneKind {
+    /// The config name of the scene.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Lab => "lab",
+            Self::Corridor => "corridor",
+            Self::Road => "road",
+        }
+    }
+}
+
+/// Which Ouster-like sensor to simulate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum SensorKind {
+    /// 128 beams over +45°..−45° elevation, 75 m max range.
+    #[default]
+    #[serde(rename = "os0-128")]
+    Os0_128,
+    /// 64 beams over +22.5°..−22.5° elevation, 120 m max range.
+    #[serde(rename = "os1-64")]
+    Os1_64,
+}
+
+/// Column counts per revolution the simulator accepts.
+pub const ALLOWED_COLUMNS: [usize; 3] = [512, 1024, 2048];
+
+/// Parameters of the simulated source.
+#[derive(Serialize, Deserialize, JsonSchema, Clone, Debug, PartialEq)]
+#[serde(default, deny_unknown_fields)]
+pub struct SimConfig {
+    /// Synthetic world: `lab`, `corridor` or `road`.
+    pub scene: SceneKind,
+    /// Number of frames (sensor revolutions) to produce, at least 1.
+    pub frames: usize,
+    /// Sensor model: `os0-128` or `os1-64`.
+    pub sensor: SensorKind,
+    /// Columns per revolution: 512, 1024 or 2048.
+    pub columns: usize,
+    /// Seed of the scene layout, the surface textures and the measurement noise.
+    pub seed: u64,
+    /// Standard deviation of the Gaussian range noise, metres (0 = noise-free ranges).
+    pub range_noise_m: f64,
+    /// Cast each column from the sensor pose at its own firing time (true), or every column
+    /// from the pose at the frame start (false, all column times equal the frame timestamp).
+    pub motion_distortion: bool,
+    /// Maximum range in metres; unset = the sensor's default (75 m OS0, 120 m OS1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_range_m: Option<f64>,
+    /// Multiplier of the scene's nominal trajectory speed (0 = a static sensor).
+    pub speed_scale: f64,
+}
+
+impl Default for SimConfig {
+    fn default() -> Self {
+        Self {
+            scene: SceneKind::Lab,
+            frames: 100,
+            sensor: SensorKind::Os0_128,
+            columns: 1024,
+            seed: 0,
+            range_noise_m: 0.01,
+            motion_distortion: true,
+            max_range_m: None,
+            speed_scale: 1.0,
+        }
+    }
+}
+
+impl SimConfig {
+    /// Checks every field; the error names the first offending one.
+    pub fn validate(&self) -> Result<(), SimError> {
+        if self.frames == 0 {
+            return Err(SimError::config("frames", "must be at least 1"));
+        }
+        if !ALLOWED_COLUMNS.contains(&self.columns) {
+            return Err(SimError::config(
+                "columns",
+                format!("{} is not allowed; allowed: 512, 1024, 2048", self.columns),
+            ));
+        }
+        if !self.range_noise_m.is_finite() || self.range_noise_m < 0.0 {
+            return Err(SimError::config(
+                "range_noise_m",
+                format!("{} must be finite and ≥ 0", self.range_noise_m),
+            ));
+        }
+        if !self.speed_scale.is_finite() || self.speed_scale < 0.0 {
+            return Err(SimError::config(
+                "speed_scale",
+                format!("{} must be finite and ≥ 0", self.speed_scale),
+            ));
+        }
+        if let Some(r) = self.max_range_m {
+            let min = crate::sensor::MIN_RANGE_M;
+            if !r.is_finite() || r <= min || r > 1000.0 {
+                return Err(SimError::config(
+                    "max_range_m",
+                    format!("{r} must be finite, > {min} (the minimum range) and ≤ 1000"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn field_of(c: SimConfig) -> Option<&'static str> {
+        c.validate().err().and_then(|e| e.field())
+    }
+
+    #[test]
+    fn default_is_valid() {
+        assert!(SimConfig::default().validate().is_ok());
+    }
+
+    #[test]
+    fn errors_name_the_field() {
+        let d = SimConfig::default;
+        assert_eq!(field_of(SimConfig { frames: 0, ..d() }), Some("frames"));
+        assert_eq!(
+            field_of(SimConfig {
+                columns: 1000,
+                ..d()
+            }),
+            Some("columns")
+        );
+        let c = SimConfig {
+            range_noise_m: f64::NAN,
+            ..d()
+        };
+        assert_eq!(field_of(c), Some("range_noise_m"));
+        let c = SimConfig {
+            range_noise_m: -0.1,
+            ..d()
+        };
+        assert_eq!(field_of(c), Some("range_noise_m"));
+        let c = SimConfig {
+            speed_scale: f64::INFINITY,
+            ..d()
+        };
+        assert_eq!(field_of(c), Some("speed_scale"));
+        let c = SimConfig {
+            max_range_m: Some(0.1),
+            ..d()
+        };
+        assert_eq!(field_of(c), Some("max_range_m"));
+        let msg = SimConfig { columns: 7, ..d() }
+            .validate()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            msg.contains("columns") && msg.contains("512, 1024, 2048"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn serde_names_are_kebab_case() {
+        let text = "scene = \"corridor\"\nsensor = \"os1-64\"\ncolumns = 2048\n";
+        let c: SimConfig = toml::from_str(text).unwrap();
+        assert_eq!(c.scene, SceneKind::Corridor);
+        assert_eq!(c.sensor, SensorKind::Os1_64);
+        assert_eq!(c.columns, 2048);
+        assert_eq!(c.frames, 100);
+        let back = toml::to_string(&c).unwrap();
+        assert!(
+            back.contains("\"os1-64\"") && !back.contains("max_range_m"),
+            "{back}"
+        );
+        assert!(toml::from_str::<SimConfig>("colums = 1").is_err());
+    }
+}

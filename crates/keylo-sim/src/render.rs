@@ -1,0 +1,96 @@
+//! Casts every pixel of a frame, columns in parallel, and assembles the [`LidarFrame`].
+
+use std::sync::Arc;
+
+use keylo_core::{BeamGeometry, LidarFrame, Pose};
+use nalgebra::Vector3;
+use parry3d::math::Vector as GVec;
+use rayon::prelude::*;
+
+use crate::noise::PixelRng;
+use crate::scenes::Scene;
+use crate::sensor::SensorModel;
+use crate::shading::{PixelReturn, Shading};
+
+/// Everything needed to render frames of one configuration.
+#[derive(Debug)]
+pub(crate) struct Renderer {
+    pub sensor: SensorModel,
+    pub shading: Shading,
+    pub seed: u64,
+    pub beams: Arc<BeamGeometry>,
+    /// `(cos, sin)` of each beam's elevation.
+    altitudes: Vec<(f64, f64)>,
+    /// Rays are cast this far (a bit past the max range, for the near-IR of far surfaces).
+    cast_range: f32,
+}
+
+impl Renderer {
+    /// A renderer for `sensor` with `shading`, noise seeded by `seed`.
+    pub fn new(sensor: SensorModel, shading: Shading, seed: u64) -> Self {
+        let altitudes = sensor.altitude_table();
+        let beams = sensor.beam_geometry();
+        let cast_range = (sensor.max_range_m * 1.2 + 1.0) as f32;
+        Self {
+            sensor,
+            shading,
+            seed,
+            beams,
+            altitudes,
+            cast_range,
+        }
+    }
+
+    /// Renders frame `index` starting at `t0`; `column_times[c]` is column `c`'s firing
+    /// time and `poses[c]` the sensor pose (sensor → world) it is cast from.
+    pub fn frame(
+        &self,
+        scene: &Scene,
+        index: u64,
+        t0: f64,
+        column_times: Vec<f64>,
+        poses: &[Pose],
+    ) -> LidarFrame {
+        let (rows, cols) = (self.sensor.rows, self.sensor.cols);
+        let mut buf = vec![PixelReturn::default(); rows * cols];
+        buf.par_chunks_mut(rows)
+            .zip(poses.par_iter())
+            .enumerate()
+            .for_each(|(c, (column, pose))| self.column(scene, index, c, pose, column));
+        let mut f = LidarFrame::empty(index, t0, rows, cols, Arc::clone(&self.beams));
+        f.column_times = column_times;
+        for (c, column) in buf.chunks(rows).enumerate() {
+            for (r, px) in column.iter().enumerate() {
+                let i = r * cols + c;
+                f.valid[i] = px.valid;
+                f.range[i] = px.range;
+                f.points[i] = px.point;
+                f.signal[i] = px.signal;
+                f.reflectivity[i] = px.reflectivity;
+                f.near_ir[i] = px.near_ir;
+            }
+        }
+        f
+    }
+
+    /// Casts the `rows` pixels of column `col` from `pose` into `out` (top row first).
+    fn column(&self, scene: &Scene, frame: u64, col: usize, pose: &Pose, out: &mut [PixelReturn]) {
+        let az = self.sensor.azimuth_rad(col);
+        let (saz, caz) = az.sin_cos();
+        let rot = pose
+            .rotation
+            .to_rotation_matrix()
+            .into_inner()
+            .cast::<f32>();
+        let t = pose.translation.vector.cast::<f32>();
+        let origin = GVec::new(t.x, t.y, t.z);
+        for ((row, px), &(ca, sa)) in out.iter_mut().enumerate().zip(&self.altitudes) {
+            let dir_s = Vector3::new(ca * caz, ca * saz, sa);
+            let w = rot * dir_s.cast::<f32>();
+            let dir_w = GVec::new(w.x, w.y, w.z).normalize();
+            let hit = scene.world.cast(origin, dir_w, self.cast_range);
+            let mut rng = PixelRng::for_pixel(self.seed, frame, row, col);
+            *px = self.shading.pixel(hit.as_ref(), &dir_s, dir_w, &mut rng);
+        }
+    }
+}

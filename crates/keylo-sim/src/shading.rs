@@ -1,0 +1,208 @@
+//! From a ray hit to the four Ouster channels of one pixel.
+//!
+//! * range: true distance plus Gaussian noise;
+//! * signal (photon counts): `K · albedo · cos(incidence) / (r² + 0.25)` plus shot noise,
+//!   `K` chosen so a 10 % target drops below the detection threshold at the sensor's rated
+//!   range (35 m OS0, 45 m OS1); saturates at 65535;
+//! * reflectivity: calibrated, `100 · albedo` (retro-reflectors above 100, max 255), with
+//!   noise shrinking as the signal grows; independent of range;
+//! * near-IR: ambient light reflected by the surface (`direct · max(0, n·l) + diffuse`), with
+//!   shot noise; the sky's value for rays that see nothing.
+
+use nalgebra::{Point3, Vector3};
+use parry3d::math::Vector as GVec;
+
+use crate::noise::PixelRng;
+use crate::scenes::Ambient;
+use crate::world::Hit;
+
+/// Weakest signal (counts) that still yields a return.
+pub const MIN_SIGNAL: f64 = 3.0;
+/// Largest signal count (16-bit).
+const MAX_COUNT: f64 = 65535.0;
+
+/// The channel values of one pixel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PixelReturn {
+    /// Whether the pixel holds a return.
+    pub valid: bool,
+    /// Range, metres (0 when invalid).
+    pub range: f32,
+    /// Point in the sensor frame (origin when invalid).
+    pub point: Point3<f32>,
+    /// Signal, photon counts.
+    pub signal: f32,
+    /// Calibrated reflectivity, 0..=255.
+    pub reflectivity: f32,
+    /// Ambient near-IR counts.
+    pub near_ir: f32,
+}
+
+impl Default for PixelReturn {
+    fn default() -> Self {
+        Self {
+            valid: false,
+            range: 0.0,
+            point: Point3::origin(),
+            signal: 0.0,
+            reflectivity: 0.0,
+            near_ir: 0.0,
+        }
+    }
+}
+
+/// Sensor and scene constants the shading needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shading {
+    /// Range noise standard deviation, metres.
+    pub range_noise_m: f64,
+    /// Minimum valid range, metres.
+    pub min_range_m: f64,
+    /// Maximum valid range, metres.
+    pub max_range_m: f64,
+    /// Signal gain `K`.
+    pub signal_gain: f64,
+    /// Ambient light.
+    pub ambient: Ambient,
+}
+
+impl Shading {
+    /// The pixel seen along `dir_sensor` (sensor frame) / `dir_world`, given what it hit.
+    pub fn pixel(
+        &self,
+        hit: Option<&Hit>,
+        dir_sensor: &Vector3<f64>,
+        dir_world: GVec,
+        rng: &mut PixelRng,
+    ) -> PixelReturn {
+        let Some(hit) = hit else {
+            return PixelReturn {
+                near_ir: self.sky(dir_world, rng),
+                ..PixelReturn::default()
+            };
+        };
+        let near_ir = self.near_ir(hit, rng);
+        let r_true = f64::from(hit.distance);
+        let range = r_true + self.range_noise_m * rng.gaussian();
+        let albedo = f64::from(hit.albedo);
+        let cos_inc = f64::from(hit.normal.dot(dir_world).abs());
+        let mean = (self.signal_gain * albedo * cos_inc / (r_true * r_true + 0.25)).min(MAX_COUNT);
+        let signal = (mean + mean.sqrt() * rng.gaussian()).clamp(0.0, MAX_COUNT);
+        let refl_noise = 0.5 * rng.gaussian() / (signal + 1.0).sqrt();
+        let valid = signal >= MIN_SIGNAL && range >= self.min_range_m && range <= self.max_range_m;
+        if !valid {
+            return PixelReturn {
+                near_ir,
+                ..PixelReturn::default()
+            };
+        }
+        PixelReturn {
+            valid,
+            range: range as f32,
+            point: Point3::from(dir_sensor * range).cast::<f32>(),
+            signal: signal.round() as f32,
+            reflectivity: (100.0 * albedo * (1.0 + refl_noise))
+                .round()
+                .clamp(0.0, 255.0) as f32,
+            near_ir,
+        }
+    }
+
+    /// Ambient near-IR reflected by the hit surface, with shot noise.
+    fn near_ir(&self, hit: &Hit, rng: &mut PixelRng) -> f32 {
+        let a = &self.ambient;
+        let reflectance = hit.albedo.min(1.0) * hit.nir_gain;
+        let lit = a.direct * hit.normal.dot(a.light_dir).max(0.0);
+        let diffuse = a.diffuse * (0.6 + 0.4 * hit.normal.z);
+        let mean = f64::from(reflectance * (lit + diffuse));
+        noisy_count(mean, rng)
+    }
+
+    /// Near-IR of the open sky along `dir` (brighter towards the zenith and the sun).
+    fn sky(&self, dir: GVec, rng: &mut PixelRng) -> f32 {
+        let a = &self.ambient;
+        if a.sky <= 0.0 {
+            return 0.0;
+        }
+        let sun = dir.dot(a.light_dir).max(0.0).powi(8);
+        let mean = f64::from(a.sky * (0.7 + 0.3 * dir.z.max(0.0)) + 0.5 * a.direct * sun);
+        noisy_count(mean, rng)
+    }
+}
+
+/// `mean` plus shot and read noise, rounded, non-negative.
+fn noisy_count(mean: f64, rng: &mut PixelRng) -> f32 {
+    (mean + ((mean + 1.0).sqrt()) * rng.gaussian())
+        .round()
+        .clamp(0.0, MAX_COUNT) as f32
+}
+
+/// Signal gain `K` so that a 10 % target at `rated_range_m`, facing the sensor, gives
+/// [`MIN_SIGNAL`] counts.
+pub fn signal_gain(rated_range_m: f64) -> f64 {
+    MIN_SIGNAL * (rated_range_m * rated_range_m + 0.25) / 0.1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shading() -> Shading {
+        Shading {
+            range_noise_m: 0.0,
+            min_range_m: 0.3,
+            max_range_m: 75.0,
+            signal_gain: signal_gain(35.0),
+            ambient: crate::scenes::Ambient {
+                light_dir: GVec::Z,
+                direct: 1000.0,
+                diffuse: 100.0,
+                sky: 300.0,
+            },
+        }
+    }
+
+    fn hit(distance: f32, albedo: f32) -> Hit {
+        Hit {
+            distance,
+            normal: -GVec::X,
+            object: 0,
+            albedo,
+            nir_gain: 1.0,
+        }
+    }
+
+    #[test]
+    fn signal_falls_with_range_reflectivity_does_not() {
+        let s = shading();
+        let d = Vector3::x();
+        let mut rng = PixelRng::for_pixel(0, 0, 0, 0);
+        let near = s.pixel(Some(&hit(5.0, 0.5)), &d, GVec::X, &mut rng);
+        let far = s.pixel(Some(&hit(20.0, 0.5)), &d, GVec::X, &mut rng);
+        assert!(near.valid && far.valid);
+        assert!(near.signal > 10.0 * far.signal);
+        assert!(
+            (near.reflectivity - 50.0).abs() <= 2.0,
+            "{}",
+            near.reflectivity
+        );
+        assert!(
+            (far.reflectivity - 50.0).abs() <= 6.0,
+            "{}",
+            far.reflectivity
+        );
+        assert!((near.point.x - 5.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn weak_close_and_far_returns_are_invalid() {
+        let s = shading();
+        let d = Vector3::x();
+        let mut rng = PixelRng::for_pixel(0, 0, 0, 1);
+        assert!(!s.pixel(Some(&hit(60.0, 0.05)), &d, GVec::X, &mut rng).valid);
+        assert!(!s.pixel(Some(&hit(0.2, 0.5)), &d, GVec::X, &mut rng).valid);
+        assert!(!s.pixel(Some(&hit(80.0, 1.0)), &d, GVec::X, &mut rng).valid);
+        let sky = s.pixel(None, &d, GVec::X, &mut rng);
+        assert!(!sky.valid && sky.range == 0.0 && sky.near_ir > 100.0);
+    }
+}

@@ -1,0 +1,209 @@
+//! Whole-simulator tests: determinism, ground truth, geometry, channel sanity.
+
+use keylo_core::LidarFrame;
+use parry3d::math::Vector as GVec;
+
+use crate::{SceneKind, SensorKind, SimConfig, Simulator};
+
+fn sim(scene: SceneKind, seed: u64, columns: usize) -> Simulator {
+    let c = SimConfig {
+        scene,
+        seed,
+        columns,
+        frames: 5,
+        ..SimConfig::default()
+    };
+    Simulator::new(&c).unwrap()
+}
+
+fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+#[test]
+fn same_seed_gives_identical_frames_whatever_the_threads() {
+    let a = sim(SceneKind::Lab, 7, 512);
+    let b = sim(SceneKind::Lab, 7, 512);
+    let fa = in_pool(1, || a.frame(2));
+    let fb = in_pool(3, || b.frame(2));
+    assert_eq!(fa, fb);
+    let bits = |f: &LidarFrame| f.range.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&fa), bits(&fb));
+}
+
+#[test]
+fn different_seeds_give_different_textures() {
+    let a = sim(SceneKind::Corridor, 1, 512).frame(0);
+    let b = sim(SceneKind::Corridor, 2, 512).frame(0);
+    let differing = a
+        .reflectivity
+        .iter()
+        .zip(&b.reflectivity)
+        .filter(|(x, y)| (**x - **y).abs() > 5.0)
+        .count();
+    assert!(differing > a.reflectivity.len() / 10, "{differing}");
+}
+
+#[test]
+fn ground_truth_starts_at_identity_and_is_continuous() {
+    for (scene, speed) in [
+        (SceneKind::Lab, 1.0),
+        (SceneKind::Corridor, 1.2),
+        (SceneKind::Road, 8.0),
+    ] {
+        let c = SimConfig {
+            scene,
+            frames: 300,
+            ..SimConfig::default()
+        };
+        let s = Simulator::new(&c).unwrap();
+        let gt = s.ground_truth();
+        assert_eq!(gt.len(), 300);
+        assert_eq!(gt.poses[0], keylo_core::Pose::identity());
+        assert!((gt.stamps[0] - 0.1 * 1023.0 / 1024.0).abs() < 1e-12);
+        for (k, w) in gt.poses.windows(2).enumerate() {
+            let step = (w[1].translation.vector - w[0].translation.vector).norm();
+            assert!(
+                (step - speed * 0.1).abs() < 0.02 * speed,
+                "{scene:?} {k}: {step}"
+            );
+            let turn = w[0].rotation.angle_to(&w[1].rotation);
+            assert!(turn < 0.1, "{scene:?} {k}: {turn}");
+            assert!((gt.stamps[k + 1] - gt.stamps[k] - 0.1).abs() < 1e-9);
+        }
+    }
+}
+
+#[test]
+fn lab_points_lie_on_scene_surfaces() {
+    let c = SimConfig {
+        range_noise_m: 0.0,
+        frames: 1,
+        ..SimConfig::default()
+    };
+    let s = Simulator::new(&c).unwrap();
+    let f = s.frame(0);
+    let mut checked = 0;
+    for i in (0..f.rows * f.cols).step_by(13).filter(|&i| f.valid[i]) {
+        let pose = s.pose_at(f.column_times[i % f.cols]);
+        let p = pose * f.points[i].cast::<f64>();
+        let d = s
+            .scene()
+            .world
+            .surface_distance(GVec::new(p.x as f32, p.y as f32, p.z as f32));
+        assert!(d < 2e-3, "pixel {i}: {d} m off the surfaces");
+        let r = f.points[i].coords.norm();
+        assert!((r - f.range[i]).abs() < 1e-3);
+        checked += 1;
+    }
+    assert!(checked > 5000, "{checked}");
+}
+
+#[test]
+fn beams_at_known_surfaces_give_the_known_range() {
+    // A static sensor in the corridor at (4, -0.55, ~1.5): the horizontal beam to the right
+    // (column 3W/4) hits the wall y = -1.2, the lowest forward beam the floor z = 0.
+    let c = SimConfig {
+        scene: SceneKind::Corridor,
+        sensor: SensorKind::Os1_64,
+        range_noise_m: 0.0,
+        speed_scale: 0.0,
+        frames: 1,
+        ..SimConfig::default()
+    };
+    let s = Simulator::new(&c).unwrap();
+    let f = s.frame(0);
+    let right = (32, 3 * f.cols / 4, 1, -1.2);
+    let floor = (63, f.cols / 2, 2, 0.0);
+    for (row, col, axis, plane) in [right, floor] {
+        let i = row * f.cols + col;
+        assert!(f.valid[i]);
+        // Static but swaying: the attitude at the column's firing time matters.
+        let pose = s.pose_at(f.column_times[col]);
+        let o = pose.translation.vector;
+        assert!((o.x - 4.0).abs() < 1e-9 && (o.y + 0.55).abs() < 1e-9);
+        let dir = pose.rotation * s.sensor().direction(row, col);
+        let expected = (plane - o[axis]) / dir[axis];
+        assert!(expected > 0.0);
+        assert!(
+            (f64::from(f.range[i]) - expected).abs() < 1e-3,
+            "{} vs {expected}",
+            f.range[i]
+        );
+        let p = pose * f.points[i].cast::<f64>();
+        assert!((p[axis] - plane).abs() < 1e-3, "{p:?}");
+    }
+}
+
+#[test]
+fn without_motion_distortion_column_times_are_equal() {
+    let c = SimConfig {
+        motion_distortion: false,
+        frames: 3,
+        columns: 512,
+        ..SimConfig::default()
+    };
+    let s = Simulator::new(&c).unwrap();
+    let f = s.frame(2);
+    assert!(f.column_times.iter().all(|&t| t == f.timestamp));
+    assert!((f.timestamp - 0.2).abs() < 1e-12);
+    assert_eq!(s.ground_truth().stamps[2], f.timestamp);
+    let moving = Simulator::new(&SimConfig {
+        motion_distortion: true,
+        ..c
+    })
+    .unwrap()
+    .frame(2);
+    assert!((moving.column_times[511] - (0.2 + 0.1 * 511.0 / 512.0)).abs() < 1e-12);
+    assert_ne!(moving.range, f.range);
+}
+
+fn check_channels(f: &LidarFrame, max_range: f32) {
+    assert!(f.check_shape().is_ok());
+    for i in 0..f.rows * f.cols {
+        assert!((0.0..=255.0).contains(&f.reflectivity[i]));
+        assert!(f.signal[i] >= 0.0 && f.near_ir[i] >= 0.0);
+        if f.valid[i] {
+            assert!((0.3..=max_range).contains(&f.range[i]), "{}", f.range[i]);
+        } else {
+            assert_eq!((f.range[i], f.signal[i]), (0.0, 0.0));
+        }
+    }
+}
+
+#[test]
+fn channels_are_sane_and_scenes_mostly_valid() {
+    let cases = [
+        (SceneKind::Lab, SensorKind::Os0_128, 0.9),
+        (SceneKind::Corridor, SensorKind::Os0_128, 0.8),
+        (SceneKind::Road, SensorKind::Os0_128, 0.3),
+        (SceneKind::Lab, SensorKind::Os1_64, 0.9),
+        (SceneKind::Corridor, SensorKind::Os1_64, 0.8),
+        (SceneKind::Road, SensorKind::Os1_64, 0.3),
+    ];
+    for (scene, sensor, min_fraction) in cases {
+        let c = SimConfig {
+            scene,
+            sensor,
+            frames: 1,
+            ..SimConfig::default()
+        };
+        let s = Simulator::new(&c).unwrap();
+        let f = s.frame(0);
+        check_channels(&f, s.sensor().max_range_m as f32);
+        let fraction = f.valid_count() as f64 / (f.rows * f.cols) as f64;
+        println!("{scene:?} {sensor:?}: valid fraction {fraction:.3}");
+        assert!(fraction > min_fraction, "{scene:?} {sensor:?}: {fraction}");
+    }
+}
+
+#[test]
+fn simulator_and_source_can_cross_threads() {
+    fn assert_send_sync<T: Send + Sync>() {}
+    assert_send_sync::<Simulator>();
+    assert_send_sync::<crate::SimSource>();
+}

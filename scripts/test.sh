@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Sets the machine up (scripts/setup.sh) and runs every test of the workspace.
+set -euo pipefail
+ROOT="$(cd "$(dirname "$0")/.." && pwd)"
+bash "$ROOT/scripts/setup.sh"
+cd "$ROOT"
+cargo test --workspace --locked
