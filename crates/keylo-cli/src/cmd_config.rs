@@ -27,7 +27,10 @@ fn kinds(registry: &Registry) -> String {
     for (section, default) in STAGE_DEFAULT_KINDS {
         let _ = writeln!(out, "[{section}] (default: {default})");
         for kind in registry.section_kinds(section).unwrap_or_default() {
-            let summary = registry.describe(section, kind).map(|d| d.0).unwrap_or_default();
+            let summary = registry
+                .describe(section, kind)
+                .map(|d| d.0)
+                .unwrap_or_default();
             let _ = writeln!(out, "  {kind:<14} {summary}");
         }
     }

@@ -15,10 +15,18 @@ use crate::{configs, resources, EXIT_FRAME_FAILED};
 
 pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let registry = keylo::registry();
-    let config = configs::load(&registry, args.config.as_deref(), args.data.as_deref(), &args.sets)?;
+    let config = configs::load(
+        &registry,
+        args.config.as_deref(),
+        args.data.as_deref(),
+        &args.sets,
+    )?;
     let out = output_dir(&args, &config)?;
-    std::fs::write(out.join("config.toml"), keylo::config::render_resolved(&config, &registry))
-        .with_context(|| format!("writing {}", out.join("config.toml").display()))?;
+    std::fs::write(
+        out.join("config.toml"),
+        keylo::config::render_resolved(&config, &registry),
+    )
+    .with_context(|| format!("writing {}", out.join("config.toml").display()))?;
     let mut pipeline = Pipeline::build(&config, &registry)?;
     let info = pipeline.source.info();
     tracing::info!("source: {}; output: {}", info.description, out.display());
@@ -37,15 +45,31 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         source: info.description,
         frames_skipped: outcome.skipped,
         failed: outcome.failure,
-        wall_hz: if wall > 0.0 { outcome.totals.frames as f64 / wall } else { 0.0 },
+        wall_hz: if wall > 0.0 {
+            outcome.totals.frames as f64 / wall
+        } else {
+            0.0
+        },
         peak_rss_mb: resources::peak_rss_mb(),
-        cpu_percent: cpu0.zip(resources::cpu_seconds()).map(|(a, b)| 100.0 * (b - a) / wall.max(1e-9)),
+        cpu_percent: cpu0
+            .zip(resources::cpu_seconds())
+            .map(|(a, b)| 100.0 * (b - a) / wall.max(1e-9)),
         path_length_m: outcome.trajectory.path_length(),
         ..Summary::default()
     };
     outcome.totals.fill(&mut summary);
-    add_accuracy(&mut summary, &outcome.trajectory, ground_truth(&args, &config, &pipeline));
-    report::write_outputs(&out, &outcome.trajectory, config.output.tum, config.output.kitti, &summary)?;
+    add_accuracy(
+        &mut summary,
+        &outcome.trajectory,
+        ground_truth(&args, &config, &pipeline),
+    );
+    report::write_outputs(
+        &out,
+        &outcome.trajectory,
+        config.output.tum,
+        config.output.kitti,
+        &summary,
+    )?;
 
     if !quiet {
         println!("keylo run — {} → {}", summary.source, out.display());
@@ -72,14 +96,22 @@ struct RunState {
     failure: Option<Failure>,
 }
 
-fn process_all(pipeline: &mut Pipeline, config: &PipelineConfig, progress: &ProgressBar, st: &mut RunState) {
+fn process_all(
+    pipeline: &mut Pipeline,
+    config: &PipelineConfig,
+    progress: &ProgressBar,
+    st: &mut RunState,
+) {
     let mut read = 0u64;
     loop {
         let frame = match pipeline.source.next_frame() {
             None => break,
             Some(Ok(f)) => f,
             Some(Err(e)) => {
-                st.failure = Some(Failure { frame: read, error: e.to_string() });
+                st.failure = Some(Failure {
+                    frame: read,
+                    error: e.to_string(),
+                });
                 break;
             }
         };
@@ -93,12 +125,17 @@ fn process_all(pipeline: &mut Pipeline, config: &PipelineConfig, progress: &Prog
                 st.trajectory.push(r.stamp, r.pose);
                 st.totals.add(&r);
             }
-            Err(e @ CoreError::BadFrame { .. }) if config.output.on_bad_frame == OnBadFrame::Skip => {
+            Err(e @ CoreError::BadFrame { .. })
+                if config.output.on_bad_frame == OnBadFrame::Skip =>
+            {
                 tracing::warn!("skipping: {e}");
                 st.skipped += 1;
             }
             Err(e) => {
-                st.failure = Some(Failure { frame: frame.index, error: e.to_string() });
+                st.failure = Some(Failure {
+                    frame: frame.index,
+                    error: e.to_string(),
+                });
                 break;
             }
         }
@@ -116,7 +153,8 @@ fn output_dir(args: &RunArgs, config: &PipelineConfig) -> Result<PathBuf> {
             PathBuf::from("runs").join(timestamp_name(secs))
         }
     };
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating output directory {}", dir.display()))?;
+    std::fs::create_dir_all(&dir)
+        .with_context(|| format!("creating output directory {}", dir.display()))?;
     Ok(dir)
 }
 
@@ -134,27 +172,40 @@ fn timestamp_name(secs: u64) -> String {
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
     let y = yoe + era * 400 + i64::from(m <= 2);
-    format!("{y:04}{m:02}{d:02}-{:02}{:02}{:02}", rem / 3600, (rem / 60) % 60, rem % 60)
+    format!(
+        "{y:04}{m:02}{d:02}-{:02}{:02}{:02}",
+        rem / 3600,
+        (rem / 60) % 60,
+        rem % 60
+    )
 }
 
 /// Ground truth: `--gt`, else `[output] gt`, else the source's own, else `DATA/gt.tum`.
-fn ground_truth(args: &RunArgs, config: &PipelineConfig, pipeline: &Pipeline) -> Option<Result<(String, Trajectory)>> {
-    let file = args
-        .gt
-        .clone()
-        .or_else(|| (!config.output.gt.is_empty()).then(|| config.base_dir.join(&config.output.gt)));
+fn ground_truth(
+    args: &RunArgs,
+    config: &PipelineConfig,
+    pipeline: &Pipeline,
+) -> Option<Result<(String, Trajectory)>> {
+    let file = args.gt.clone().or_else(|| {
+        (!config.output.gt.is_empty()).then(|| config.base_dir.join(&config.output.gt))
+    });
     if let Some(path) = file {
         return Some(read_gt(&path));
     }
     if let Some(gt) = pipeline.source.ground_truth() {
         return Some(Ok(("source (simulator)".into(), gt)));
     }
-    let beside = args.data.as_ref().map(|d| d.join("gt.tum")).filter(|p| p.is_file())?;
+    let beside = args
+        .data
+        .as_ref()
+        .map(|d| d.join("gt.tum"))
+        .filter(|p| p.is_file())?;
     Some(read_gt(&beside))
 }
 
 fn read_gt(path: &Path) -> Result<(String, Trajectory)> {
-    let t = keylo::eval::io::read_trajectory(path).with_context(|| format!("ground truth {}", path.display()))?;
+    let t = keylo::eval::io::read_trajectory(path)
+        .with_context(|| format!("ground truth {}", path.display()))?;
     Ok((path.display().to_string(), t))
 }
 
@@ -179,7 +230,10 @@ fn progress_bar(len: Option<usize>, quiet: bool) -> ProgressBar {
     if quiet {
         return ProgressBar::hidden();
     }
-    let bar = ProgressBar::with_draw_target(len.map(|n| n as u64), indicatif::ProgressDrawTarget::stderr());
+    let bar = ProgressBar::with_draw_target(
+        len.map(|n| n as u64),
+        indicatif::ProgressDrawTarget::stderr(),
+    );
     let style = ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {per_sec}  eta {eta}")
         .unwrap_or_else(|_| ProgressStyle::default_bar());
     bar.set_style(style);

@@ -16,8 +16,13 @@ use crate::args::{SimArgs, SimFormat};
 pub fn run(args: SimArgs, quiet: bool) -> Result<ExitCode> {
     let config = sim_config(&args)?;
     let sim = Simulator::new(&config)?;
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
-    let progress = if quiet { ProgressBar::hidden() } else { ProgressBar::new(sim.len() as u64) };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let progress = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(sim.len() as u64)
+    };
     let gt = sim.ground_truth();
     let description = format!("keylo sim {}", args_line(&args));
     match args.format {
@@ -34,9 +39,14 @@ pub fn run(args: SimArgs, quiet: bool) -> Result<ExitCode> {
         },
     };
     let gt_path = args.out.join("gt.tum");
-    keylo::eval::io::write_tum(&gt_path, &gt).with_context(|| format!("writing {}", gt_path.display()))?;
+    keylo::eval::io::write_tum(&gt_path, &gt)
+        .with_context(|| format!("writing {}", gt_path.display()))?;
     if !quiet {
-        println!("wrote {} frames and gt.tum to {}", sim.len(), args.out.display());
+        println!(
+            "wrote {} frames and gt.tum to {}",
+            sim.len(),
+            args.out.display()
+        );
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -48,17 +58,34 @@ fn sim_config(args: &SimArgs) -> Result<SimConfig> {
     for s in &args.sets {
         raw.set(s)?;
     }
-    parse_params::<SimConfig>(&raw.table).map_err(|(path, msg)| anyhow::anyhow!("simulator parameter `{path}`: {msg}"))
+    parse_params::<SimConfig>(&raw.table)
+        .map_err(|(path, msg)| anyhow::anyhow!("simulator parameter `{path}`: {msg}"))
 }
 
 fn args_line(args: &SimArgs) -> String {
     let sets: Vec<String> = args.sets.iter().map(|s| format!("--set {s}")).collect();
-    format!("--scene {} --frames {} {}", args.scene, args.frames, sets.join(" "))
+    format!(
+        "--scene {} --frames {} {}",
+        args.scene,
+        args.frames,
+        sets.join(" ")
+    )
 }
 
-fn write_frames(sim: &Simulator, args: &SimArgs, description: &str, progress: &ProgressBar) -> Result<()> {
+fn write_frames(
+    sim: &Simulator,
+    args: &SimArgs,
+    description: &str,
+    progress: &ProgressBar,
+) -> Result<()> {
     let first = sim.frame(0);
-    let mut writer = FramesWriter::create(&args.out, first.rows, first.cols, (*first.beams).clone(), description)?;
+    let mut writer = FramesWriter::create(
+        &args.out,
+        first.rows,
+        first.cols,
+        (*first.beams).clone(),
+        description,
+    )?;
     writer.write(&first)?;
     progress.inc(1);
     for i in 1..sim.len() {

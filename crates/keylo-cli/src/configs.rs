@@ -45,7 +45,10 @@ fn apply_data(registry: &Registry, raw: &mut RawConfig, data: &Path) -> Result<(
     let path = std::path::absolute(data).unwrap_or_else(|_| data.to_path_buf());
     let mut table = toml::Table::new();
     table.insert("kind".into(), toml::Value::String(kind.into()));
-    table.insert("path".into(), toml::Value::String(path.display().to_string()));
+    table.insert(
+        "path".into(),
+        toml::Value::String(path.display().to_string()),
+    );
     raw.replace_section("source", table);
     Ok(())
 }

@@ -92,7 +92,11 @@ impl Totals {
         s.mean_registered_points = self.registered_points as f64 / n;
         s.mean_iterations = self.iterations as f64 / n;
         s.frames_not_converged = self.not_converged;
-        s.odometry_hz = if self.odometry_seconds > 0.0 { self.frames as f64 / self.odometry_seconds } else { 0.0 };
+        s.odometry_hz = if self.odometry_seconds > 0.0 {
+            self.frames as f64 / self.odometry_seconds
+        } else {
+            0.0
+        };
         let ms = |v: f64| 1e3 * v / n;
         let t = &self.timings;
         s.stage_ms = StageMs {
@@ -106,14 +110,21 @@ impl Totals {
 }
 
 /// Writes the trajectory files the config asks for, and `summary.json`.
-pub fn write_outputs(dir: &Path, traj: &Trajectory, tum: bool, kitti: bool, summary: &Summary) -> Result<()> {
+pub fn write_outputs(
+    dir: &Path,
+    traj: &Trajectory,
+    tum: bool,
+    kitti: bool,
+    summary: &Summary,
+) -> Result<()> {
     if tum {
         let p = dir.join("trajectory.tum");
         keylo::eval::io::write_tum(&p, traj).with_context(|| format!("writing {}", p.display()))?;
     }
     if kitti {
         let p = dir.join("trajectory.kitti");
-        keylo::eval::io::write_kitti(&p, traj).with_context(|| format!("writing {}", p.display()))?;
+        keylo::eval::io::write_kitti(&p, traj)
+            .with_context(|| format!("writing {}", p.display()))?;
     }
     let p = dir.join("summary.json");
     let text = serde_json::to_string_pretty(summary)?;
@@ -123,17 +134,30 @@ pub fn write_outputs(dir: &Path, traj: &Trajectory, tum: bool, kitti: bool, summ
 
 /// The human-readable result table.
 pub fn table(s: &Summary) -> String {
-    let opt = |v: Option<f64>, digits: usize| v.map_or("-".to_string(), |v| format!("{v:.digits$}"));
+    let opt =
+        |v: Option<f64>, digits: usize| v.map_or("-".to_string(), |v| format!("{v:.digits$}"));
     let acc = s.accuracy.as_ref();
     let rows = [
         ("frames", s.frames.to_string()),
         ("odometry rate (Hz)", format!("{:.1}", s.odometry_hz)),
         ("end-to-end rate (Hz)", format!("{:.1}", s.wall_hz)),
-        ("points to registrar (mean)", format!("{:.0}", s.mean_cloud_points)),
-        ("points registered (mean)", format!("{:.0}", s.mean_registered_points)),
+        (
+            "points to registrar (mean)",
+            format!("{:.0}", s.mean_cloud_points),
+        ),
+        (
+            "points registered (mean)",
+            format!("{:.0}", s.mean_registered_points),
+        ),
         ("ATE RMSE (m)", opt(acc.map(|a| a.ate_rmse_m), 4)),
-        ("RPE trans (m/frame)", opt(acc.map(|a| a.rpe_trans_rmse_m), 4)),
-        ("RPE rot (deg/frame)", opt(acc.map(|a| a.rpe_rot_rmse_deg), 4)),
+        (
+            "RPE trans (m/frame)",
+            opt(acc.map(|a| a.rpe_trans_rmse_m), 4),
+        ),
+        (
+            "RPE rot (deg/frame)",
+            opt(acc.map(|a| a.rpe_rot_rmse_deg), 4),
+        ),
         ("drift (%)", opt(acc.and_then(|a| a.drift_pct), 3)),
         ("peak RSS (MB)", opt(s.peak_rss_mb, 1)),
         ("CPU (%)", opt(s.cpu_percent, 0)),

@@ -24,13 +24,37 @@ fn missing_config_file_is_named() {
 fn unknown_section_key_kind_and_wrong_type_name_the_key() {
     let tmp = tempfile::tempdir().unwrap();
     let cases = [
-        ("[sourse]\nkind = 'sim'\n", "unknown section `[sourse]`", "allowed sections"),
-        ("[registrar]\nvoxel_sise = 1.0\n", "registrar.voxel_sise", "voxel_size"),
-        ("[registrar]\nkind = 'kiss'\n", "registrar.kind = \"kiss\"", "kiss-icp"),
-        ("[registrar]\nmax_range = 'far'\n", "registrar.max_range", "f64"),
-        ("[source]\nkind = 'sim'\nframes = -3\n", "source.frames", "usize"),
+        (
+            "[sourse]\nkind = 'sim'\n",
+            "unknown section `[sourse]`",
+            "allowed sections",
+        ),
+        (
+            "[registrar]\nvoxel_sise = 1.0\n",
+            "registrar.voxel_sise",
+            "voxel_size",
+        ),
+        (
+            "[registrar]\nkind = 'kiss'\n",
+            "registrar.kind = \"kiss\"",
+            "kiss-icp",
+        ),
+        (
+            "[registrar]\nmax_range = 'far'\n",
+            "registrar.max_range",
+            "f64",
+        ),
+        (
+            "[source]\nkind = 'sim'\nframes = -3\n",
+            "source.frames",
+            "usize",
+        ),
         ("[output]\ntum = 1\n", "output.tum", "bool"),
-        ("[detector]\nkind = 'none'\nthreshold = 3\n", "detector.threshold", "no parameters"),
+        (
+            "[detector]\nkind = 'none'\nthreshold = 3\n",
+            "detector.threshold",
+            "no parameters",
+        ),
     ];
     for (i, (text, key, allowed)) in cases.iter().enumerate() {
         let file = tmp.path().join(format!("c{i}.toml"));
@@ -38,9 +62,15 @@ fn unknown_section_key_kind_and_wrong_type_name_the_key() {
         let o = keylo(&["config", "show", file.to_str().unwrap()], tmp.path());
         let e = stderr(&o);
         assert_eq!(o.status.code(), Some(2), "{text}: {e}");
-        assert!(e.contains(&format!("c{i}.toml")), "{text}: file not named: {e}");
+        assert!(
+            e.contains(&format!("c{i}.toml")),
+            "{text}: file not named: {e}"
+        );
         assert!(e.contains(key), "{text}: key not named: {e}");
-        assert!(e.contains(allowed), "{text}: expected/allowed not named: {e}");
+        assert!(
+            e.contains(allowed),
+            "{text}: expected/allowed not named: {e}"
+        );
         no_panic(&o);
     }
 }
@@ -48,7 +78,17 @@ fn unknown_section_key_kind_and_wrong_type_name_the_key() {
 #[test]
 fn bad_parameter_values_are_rejected_at_build_time() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = keylo(&["run", "--set", "registrar.max_range=-1", "--set", "source.frames=2", "-q"], tmp.path());
+    let o = keylo(
+        &[
+            "run",
+            "--set",
+            "registrar.max_range=-1",
+            "--set",
+            "source.frames=2",
+            "-q",
+        ],
+        tmp.path(),
+    );
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("max_range"), "{}", stderr(&o));
     no_panic(&o);
@@ -62,13 +102,23 @@ fn data_paths_that_hold_no_frames_are_errors() {
     assert!(stderr(&o).contains("missing-dir"));
     let empty = tmp.path().join("empty");
     std::fs::create_dir(&empty).unwrap();
-    let o = keylo(&["run", "--data", empty.to_str().unwrap(), "-q"], tmp.path());
+    let o = keylo(
+        &["run", "--data", empty.to_str().unwrap(), "-q"],
+        tmp.path(),
+    );
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("no source recognises"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("no source recognises"),
+        "{}",
+        stderr(&o)
+    );
     // A manifest that promises frames the folder does not hold.
     small_sim(&empty, 2);
     std::fs::remove_file(empty.join("frames/000001.klf")).unwrap();
-    let o = keylo(&["run", "--data", empty.to_str().unwrap(), "-q"], tmp.path());
+    let o = keylo(
+        &["run", "--data", empty.to_str().unwrap(), "-q"],
+        tmp.path(),
+    );
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("keylo-frames.json"), "{}", stderr(&o));
     no_panic(&o);
@@ -78,7 +128,11 @@ fn data_paths_that_hold_no_frames_are_errors() {
 fn edit_frame(dir: &std::path::Path, i: usize, edit: impl FnOnce(&mut keylo::LidarFrame)) {
     let path = dir.join(format!("frames/{i:06}.klf"));
     let bytes = std::fs::read(&path).unwrap();
-    let beams = std::sync::Arc::new(keylo::io::frames::Manifest::read(&dir.join("keylo-frames.json")).unwrap().beams);
+    let beams = std::sync::Arc::new(
+        keylo::io::frames::Manifest::read(&dir.join("keylo-frames.json"))
+            .unwrap()
+            .beams,
+    );
     let mut frame = codec::decode(&path, &bytes, &beams).unwrap();
     edit(&mut frame);
     std::fs::write(&path, codec::encode(&frame)).unwrap();
@@ -90,16 +144,28 @@ fn empty_and_all_nan_frames_stop_the_run_and_keep_the_trajectory() {
     let data = tmp.path().join("seq");
     small_sim(&data, 6);
     edit_frame(&data, 3, |f| f.valid.iter_mut().for_each(|v| *v = false));
-    edit_frame(&data, 4, |f| f.points.iter_mut().for_each(|p| p.x = f32::NAN));
+    edit_frame(&data, 4, |f| {
+        f.points.iter_mut().for_each(|p| p.x = f32::NAN)
+    });
     let out = tmp.path().join("out");
-    let args = ["run", "--data", data.to_str().unwrap(), "--out", out.to_str().unwrap(), "-q"];
+    let args = [
+        "run",
+        "--data",
+        data.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "-q",
+    ];
     let o = keylo(&args, tmp.path());
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("frame 3"), "{}", stderr(&o));
     let tum = std::fs::read_to_string(out.join("trajectory.tum")).unwrap();
     assert_eq!(tum.lines().filter(|l| !l.starts_with('#')).count(), 3);
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
-    assert!(summary.contains("\"failed\"") && summary.contains("no valid finite point"), "{summary}");
+    assert!(
+        summary.contains("\"failed\"") && summary.contains("no valid finite point"),
+        "{summary}"
+    );
     no_panic(&o);
 
     let mut skip = args.to_vec();
@@ -119,9 +185,23 @@ fn a_truncated_frame_file_is_named_and_earlier_frames_kept() {
     let bytes = std::fs::read(&bad).unwrap();
     std::fs::write(&bad, &bytes[..bytes.len() / 2]).unwrap();
     let out = tmp.path().join("out");
-    let o = keylo(&["run", "--data", data.to_str().unwrap(), "--out", out.to_str().unwrap(), "-q"], tmp.path());
+    let o = keylo(
+        &[
+            "run",
+            "--data",
+            data.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "-q",
+        ],
+        tmp.path(),
+    );
     assert_eq!(o.status.code(), Some(3));
-    assert!(stderr(&o).contains("000002.klf") && stderr(&o).contains("truncated"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("000002.klf") && stderr(&o).contains("truncated"),
+        "{}",
+        stderr(&o)
+    );
     let tum = std::fs::read_to_string(out.join("trajectory.tum")).unwrap();
     assert_eq!(tum.lines().filter(|l| !l.starts_with('#')).count(), 2);
 }

@@ -10,33 +10,62 @@ fn run_writes_trajectories_summary_and_config() {
     let data = tmp.path().join("seq");
     small_sim(&data, 8);
     let out = tmp.path().join("out");
-    let o = keylo(&["run", "--data", data.to_str().unwrap(), "--out", out.to_str().unwrap()], tmp.path());
+    let o = keylo(
+        &[
+            "run",
+            "--data",
+            data.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        tmp.path(),
+    );
     assert!(o.status.success(), "{}", stderr(&o));
-    for f in ["trajectory.tum", "trajectory.kitti", "summary.json", "config.toml"] {
+    for f in [
+        "trajectory.tum",
+        "trajectory.kitti",
+        "summary.json",
+        "config.toml",
+    ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     let table = stdout(&o);
-    assert!(table.contains("ATE RMSE (m)") && table.contains("frames"), "{table}");
+    assert!(
+        table.contains("ATE RMSE (m)") && table.contains("frames"),
+        "{table}"
+    );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["frames"], 8);
-    assert!(summary["accuracy"]["ate_rmse_m"].as_f64().is_some(), "{summary}");
+    assert!(
+        summary["accuracy"]["ate_rmse_m"].as_f64().is_some(),
+        "{summary}"
+    );
     assert!(summary["peak_rss_mb"].as_f64().unwrap_or(0.0) > 0.0);
     // The resolved config is itself a valid config.
-    let o = keylo(&["config", "show", out.join("config.toml").to_str().unwrap()], tmp.path());
+    let o = keylo(
+        &["config", "show", out.join("config.toml").to_str().unwrap()],
+        tmp.path(),
+    );
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
 #[test]
 fn config_show_fills_defaults_with_docs() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = keylo(&["config", "show", "--set", "registrar.voxel_size=0.5"], tmp.path());
+    let o = keylo(
+        &["config", "show", "--set", "registrar.voxel_size=0.5"],
+        tmp.path(),
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     assert!(text.contains("voxel_size = 0.5"), "{text}");
     assert!(text.contains("max_points_per_voxel = 20"), "{text}");
     assert!(text.contains("# Points kept per map voxel."), "{text}");
-    assert!(text.contains("[output]") && text.contains("on_bad_frame = \"stop\""), "{text}");
+    assert!(
+        text.contains("[output]") && text.contains("on_bad_frame = \"stop\""),
+        "{text}"
+    );
 }
 
 #[test]
@@ -45,14 +74,29 @@ fn config_kinds_and_docs_list_backends() {
     let o = keylo(&["config", "kinds"], tmp.path());
     assert!(stdout(&o).contains("kiss-icp") && stdout(&o).contains("passthrough"));
     let o = keylo(&["config", "docs"], tmp.path());
-    assert!(stdout(&o).contains("| `max_points_per_voxel` | `20` |"), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains("| `max_points_per_voxel` | `20` |"),
+        "{}",
+        stdout(&o)
+    );
 }
 
 #[test]
 fn kitti_bin_export_writes_bins_and_index_stamped_gt() {
     let tmp = tempfile::tempdir().unwrap();
     let o = keylo(
-        &["sim", "--frames", "3", "--format", "kitti-bin", "--out", "bins", "--set", "sensor=os1-64", "-q"],
+        &[
+            "sim",
+            "--frames",
+            "3",
+            "--format",
+            "kitti-bin",
+            "--out",
+            "bins",
+            "--set",
+            "sensor=os1-64",
+            "-q",
+        ],
         tmp.path(),
     );
     assert!(o.status.success(), "{}", stderr(&o));

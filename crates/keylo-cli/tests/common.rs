@@ -24,8 +24,18 @@ pub fn small_sim(dir: &Path, frames: usize) {
     let out = dir.to_str().expect("utf-8 temp path");
     let o = keylo(
         &[
-            "sim", "--scene", "lab", "--frames", &frames.to_string(), "--out", out, "--set",
-            "sensor=os1-64", "--set", "columns=512", "-q",
+            "sim",
+            "--scene",
+            "lab",
+            "--frames",
+            &frames.to_string(),
+            "--out",
+            out,
+            "--set",
+            "sensor=os1-64",
+            "--set",
+            "columns=512",
+            "-q",
         ],
         dir,
     );

@@ -10,9 +10,7 @@ use serde::{Deserialize, Serialize};
 use crate::PointCloud;
 
 /// One of the per-pixel channels of a [`LidarFrame`].
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Channel {
     /// Range in metres.
@@ -57,7 +55,9 @@ impl FromStr for Channel {
         Channel::ALL
             .into_iter()
             .find(|c| c.name() == s)
-            .ok_or_else(|| format!("unknown channel `{s}`; allowed: range, signal, reflectivity, near-ir"))
+            .ok_or_else(|| {
+                format!("unknown channel `{s}`; allowed: range, signal, reflectivity, near-ir")
+            })
     }
 }
 
@@ -110,7 +110,13 @@ pub struct LidarFrame {
 
 impl LidarFrame {
     /// An all-invalid frame of the given size.
-    pub fn empty(index: u64, timestamp: f64, rows: usize, cols: usize, beams: Arc<BeamGeometry>) -> Self {
+    pub fn empty(
+        index: u64,
+        timestamp: f64,
+        rows: usize,
+        cols: usize,
+        beams: Arc<BeamGeometry>,
+    ) -> Self {
         let n = rows * cols;
         Self {
             index,
@@ -156,7 +162,9 @@ impl LidarFrame {
         ];
         for (name, len) in grids {
             if len != n {
-                return Err(format!("{name} has {len} entries, expected rows*cols = {n}"));
+                return Err(format!(
+                    "{name} has {len} entries, expected rows*cols = {n}"
+                ));
             }
         }
         if self.column_times.len() != self.cols {

@@ -5,9 +5,7 @@ use std::time::Instant;
 use crate::config::{PipelineConfig, StageConfig};
 use crate::registry::Backends;
 use crate::stages::{Descriptor, Detector, Downsampler, ImageBuilder, ImageSource, Registrar};
-use crate::{
-    BuildContext, ChannelFeatures, CoreError, FrameFeatures, LidarFrame, Pose, Registry,
-};
+use crate::{BuildContext, ChannelFeatures, CoreError, FrameFeatures, LidarFrame, Pose, Registry};
 
 /// Seconds spent in each stage for one frame.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -60,7 +58,10 @@ fn build_stage<T: ?Sized + 'static>(
     ctx: &BuildContext,
 ) -> Result<Box<T>, CoreError> {
     let factory = backends.get(&stage.kind).ok_or_else(|| {
-        CoreError::stage(section, format!("backend `{}` is not registered", stage.kind))
+        CoreError::stage(
+            section,
+            format!("backend `{}` is not registered", stage.kind),
+        )
     })?;
     factory.build(&stage.params, ctx)
 }
@@ -86,8 +87,18 @@ impl Odometry {
         let odometry = Self {
             image: build_optional(&registry.images, "image", &config.image, &ctx)?,
             detector: build_optional(&registry.detectors, "detector", &config.detector, &ctx)?,
-            descriptor: build_optional(&registry.descriptors, "descriptor", &config.descriptor, &ctx)?,
-            downsampler: build_stage(&registry.downsamplers, "downsampler", &config.downsampler, &ctx)?,
+            descriptor: build_optional(
+                &registry.descriptors,
+                "descriptor",
+                &config.descriptor,
+                &ctx,
+            )?,
+            downsampler: build_stage(
+                &registry.downsamplers,
+                "downsampler",
+                &config.downsampler,
+                &ctx,
+            )?,
             registrar: build_stage(&registry.registrars, "registrar", &config.registrar, &ctx)?,
         };
         if odometry.detector.is_some() && odometry.image.is_none() {
@@ -142,7 +153,11 @@ impl Odometry {
         })
     }
 
-    fn features(&mut self, frame: &LidarFrame, timings: &mut StageTimings) -> Result<FrameFeatures, CoreError> {
+    fn features(
+        &mut self,
+        frame: &LidarFrame,
+        timings: &mut StageTimings,
+    ) -> Result<FrameFeatures, CoreError> {
         let mut features = FrameFeatures::default();
         let Some(builder) = self.image.as_mut() else {
             return Ok(features);

@@ -198,7 +198,10 @@ impl Registry {
 
     /// Summary and parameter schema of `section.kind`.
     pub fn describe(&self, section: &str, kind: &str) -> Option<(String, serde_json::Value)> {
-        fn d<T: ?Sized + 'static>(b: &Backends<T>, kind: &str) -> Option<(String, serde_json::Value)> {
+        fn d<T: ?Sized + 'static>(
+            b: &Backends<T>,
+            kind: &str,
+        ) -> Option<(String, serde_json::Value)> {
             b.get(kind).map(|f| (f.summary().to_string(), f.schema()))
         }
         match section {

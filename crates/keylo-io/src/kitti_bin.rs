@@ -32,7 +32,10 @@ pub fn read_kitti_bin(path: &Path) -> Result<Vec<[f32; 4]>, IoError> {
     if bytes.len() % 16 != 0 {
         return Err(IoError::format(
             path,
-            format!("size {} is not a multiple of 16 bytes (4 float32 per point)", bytes.len()),
+            format!(
+                "size {} is not a multiple of 16 bytes (4 float32 per point)",
+                bytes.len()
+            ),
         ));
     }
     Ok(bytes

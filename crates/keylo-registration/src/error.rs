@@ -13,13 +13,18 @@ pub enum RegistrationError {
     /// An input cloud the registrar cannot use.
     #[error("{0}")]
     BadCloud(String),
+    /// The estimate left the plausible range; the registrar state is unchanged.
+    #[error("{0}")]
+    Diverged(String),
 }
 
 impl From<RegistrationError> for CoreError {
     fn from(e: RegistrationError) -> Self {
         match e {
             RegistrationError::BadParameter { .. } => CoreError::stage("registrar", e.to_string()),
-            RegistrationError::BadCloud(m) => CoreError::stage("registrar", m),
+            RegistrationError::BadCloud(m) | RegistrationError::Diverged(m) => {
+                CoreError::stage("registrar", m)
+            }
         }
     }
 }

@@ -39,7 +39,10 @@ fn left_jacobian(phi: &Vector3<f64>) -> Matrix3<f64> {
         (0.5 - theta2 / 24.0, 1.0 / 6.0 - theta2 / 120.0)
     } else {
         let theta = theta2.sqrt();
-        ((1.0 - theta.cos()) / theta2, (theta - theta.sin()) / (theta2 * theta))
+        (
+            (1.0 - theta.cos()) / theta2,
+            (theta - theta.sin()) / (theta2 * theta),
+        )
     };
     Matrix3::identity() + w * a + w * w * b
 }

@@ -66,11 +66,13 @@ pub struct SimConfig {
     /// Cast each column from the sensor pose at its own firing time (true), or every column
     /// from the pose at the frame start (false, all column times equal the frame timestamp).
     pub motion_distortion: bool,
-    /// Maximum range in metres; unset = the sensor's default (75 m OS0, 120 m OS1).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub max_range_m: Option<f64>,
+    /// Maximum range in metres; 0 = the sensor's default (75 m OS0, 120 m OS1).
+    pub max_range_m: f64,
     /// Multiplier of the scene's nominal trajectory speed (0 = a static sensor).
     pub speed_scale: f64,
+    /// Seconds over which the sensor accelerates smoothly from rest to full speed (as a
+    /// recording that starts with the robot standing); 0 = full speed from the first frame.
+    pub start_ramp_s: f64,
 }
 
 impl Default for SimConfig {
@@ -83,13 +85,19 @@ impl Default for SimConfig {
             seed: 0,
             range_noise_m: 0.01,
             motion_distortion: true,
-            max_range_m: None,
+            max_range_m: 0.0,
             speed_scale: 1.0,
+            start_ramp_s: 2.0,
         }
     }
 }
 
 impl SimConfig {
+    /// `max_range_m` when set (non-zero).
+    pub fn max_range_override(&self) -> Option<f64> {
+        (self.max_range_m != 0.0).then_some(self.max_range_m)
+    }
+
     /// Checks every field; the error names the first offending one.
     pub fn validate(&self) -> Result<(), SimError> {
         if self.frames == 0 {
@@ -113,7 +121,13 @@ impl SimConfig {
                 format!("{} must be finite and ≥ 0", self.speed_scale),
             ));
         }
-        if let Some(r) = self.max_range_m {
+        if !self.start_ramp_s.is_finite() || self.start_ramp_s < 0.0 {
+            return Err(SimError::config(
+                "start_ramp_s",
+                format!("{} must be finite and ≥ 0", self.start_ramp_s),
+            ));
+        }
+        if let Some(r) = self.max_range_override() {
             let min = crate::sensor::MIN_RANGE_M;
             if !r.is_finite() || r <= min || r > 1000.0 {
                 return Err(SimError::config(
@@ -166,7 +180,7 @@ mod tests {
         };
         assert_eq!(field_of(c), Some("speed_scale"));
         let c = SimConfig {
-            max_range_m: Some(0.1),
+            max_range_m: 0.1,
             ..d()
         };
         assert_eq!(field_of(c), Some("max_range_m"));
@@ -190,7 +204,7 @@ mod tests {
         assert_eq!(c.frames, 100);
         let back = toml::to_string(&c).unwrap();
         assert!(
-            back.contains("\"os1-64\"") && !back.contains("max_range_m"),
+            back.contains("\"os1-64\"") && back.contains("max_range_m = 0.0"),
             "{back}"
         );
         assert!(toml::from_str::<SimConfig>("colums = 1").is_err());

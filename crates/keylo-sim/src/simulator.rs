@@ -26,7 +26,7 @@ impl Simulator {
     /// Validates `config` and builds its scene.
     pub fn new(config: &SimConfig) -> Result<Self, SimError> {
         config.validate()?;
-        let sensor = SensorModel::new(config.sensor, config.columns, config.max_range_m);
+        let sensor = SensorModel::new(config.sensor, config.columns, config.max_range_override());
         let scene = Scene::build(config.scene, config.seed, config.speed_scale)?;
         let rated = match config.sensor {
             SensorKind::Os0_128 => 35.0,
@@ -106,8 +106,11 @@ impl Simulator {
     }
 
     /// The sensor pose in the scene's world frame (sensor → world) at time `t`.
+    /// The trajectory runs on warped time (see [`start_ramp`]) so that it starts from rest.
     pub fn pose_at(&self, t: f64) -> Pose {
-        self.scene.motion.pose_at(t)
+        self.scene
+            .motion
+            .pose_at(start_ramp(t, self.config.start_ramp_s))
     }
 
     /// The sensor pose at `t` relative to the ground-truth pose of frame 0.
@@ -138,5 +141,39 @@ impl Simulator {
             t.push(stamp, pose);
         }
         t
+    }
+}
+
+/// Time warp for a smooth start from rest: the motion's clock runs at rate
+/// `(1 − cos(π t / T)) / 2` during the first `T` seconds (0 → 1, continuous acceleration) and
+/// at rate 1 afterwards; before t = 0 the sensor stands still.
+pub fn start_ramp(t: f64, ramp: f64) -> f64 {
+    if ramp <= 0.0 {
+        return t;
+    }
+    if t <= 0.0 {
+        0.0
+    } else if t < ramp {
+        t / 2.0 - ramp / (2.0 * std::f64::consts::PI) * (std::f64::consts::PI * t / ramp).sin()
+    } else {
+        t - ramp / 2.0
+    }
+}
+
+#[cfg(test)]
+mod ramp_tests {
+    use super::start_ramp;
+
+    #[test]
+    fn ramp_is_continuous_and_starts_at_rest() {
+        let (t, r) = (2.0, 2.0);
+        assert!((start_ramp(t - 1e-9, r) - start_ramp(t + 1e-9, r)).abs() < 1e-8);
+        // Rate: ~0 at the start, ~1 after the ramp.
+        let rate = |x: f64| (start_ramp(x + 1e-6, r) - start_ramp(x, r)) / 1e-6;
+        assert!(rate(1e-4) < 1e-3);
+        assert!((rate(1.0) - 0.5).abs() < 1e-4);
+        assert!((rate(3.0) - 1.0).abs() < 1e-6);
+        assert_eq!(start_ramp(5.0, 0.0), 5.0);
+        assert_eq!(start_ramp(-1.0, 2.0), 0.0);
     }
 }

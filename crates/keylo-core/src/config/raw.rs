@@ -35,10 +35,12 @@ impl RawConfig {
 
     /// Parses TOML text; `origin` names it in messages.
     pub fn parse(origin: &str, text: &str) -> Result<Self, ConfigError> {
-        let table = text.parse::<toml::Table>().map_err(|e| ConfigError::Syntax {
-            origin: origin.into(),
-            message: e.to_string(),
-        })?;
+        let table = text
+            .parse::<toml::Table>()
+            .map_err(|e| ConfigError::Syntax {
+                origin: origin.into(),
+                message: e.to_string(),
+            })?;
         Ok(Self {
             origin: origin.into(),
             base_dir: PathBuf::from("."),
@@ -111,7 +113,8 @@ mod tests {
 
     #[test]
     fn set_kind_drops_old_parameters() {
-        let mut raw = RawConfig::parse("t", "[registrar]\nkind='kiss-icp'\nvoxel_size=1.0").unwrap();
+        let mut raw =
+            RawConfig::parse("t", "[registrar]\nkind='kiss-icp'\nvoxel_size=1.0").unwrap();
         raw.set("registrar.kind=ndt").unwrap();
         let reg = raw.table["registrar"].as_table().cloned().unwrap();
         assert_eq!(reg.len(), 1);
@@ -129,7 +132,10 @@ mod tests {
 
     #[test]
     fn syntax_errors_name_the_origin() {
-        let e = RawConfig::parse("my.toml", "[source\n").err().map(|e| e.to_string()).unwrap();
+        let e = RawConfig::parse("my.toml", "[source\n")
+            .err()
+            .map(|e| e.to_string())
+            .unwrap();
         assert!(e.starts_with("my.toml: invalid TOML"), "{e}");
     }
 }

@@ -54,9 +54,12 @@ fn write_table(out: &mut String, path: &str, table: &toml::Table, schema: &Value
 
 /// Follows a `$ref` (possibly behind `allOf`) to its definition in `$defs`.
 fn deref<'a>(schema: &'a Value, root: &'a Value) -> &'a Value {
-    let reference = schema
-        .get("$ref")
-        .or_else(|| schema.get("allOf").and_then(|a| a.get(0)).and_then(|s| s.get("$ref")));
+    let reference = schema.get("$ref").or_else(|| {
+        schema
+            .get("allOf")
+            .and_then(|a| a.get(0))
+            .and_then(|s| s.get("$ref"))
+    });
     match reference.and_then(Value::as_str) {
         Some(r) => r
             .strip_prefix("#/$defs/")

@@ -46,7 +46,10 @@ impl Registry {
             Some(other) => {
                 return Err(invalid(
                     section.into(),
-                    format!("expected a table `[{section}]`, found a {}", other.type_str()),
+                    format!(
+                        "expected a table `[{section}]`, found a {}",
+                        other.type_str()
+                    ),
                 ))
             }
         };
@@ -74,18 +77,20 @@ impl Registry {
             }
             return Ok(StageConfig { kind, params });
         }
-        let resolved = self.resolve_params(section, &kind, &params).ok_or_else(|| {
-            let mut allowed = self.section_kinds(section).unwrap_or_default();
-            if optional {
-                allowed.insert(0, "none");
-            }
-            ConfigError::UnknownKind {
-                origin: raw.origin.clone(),
-                section: section.into(),
-                kind: kind.clone(),
-                allowed: allowed.join(", "),
-            }
-        })?;
+        let resolved = self
+            .resolve_params(section, &kind, &params)
+            .ok_or_else(|| {
+                let mut allowed = self.section_kinds(section).unwrap_or_default();
+                if optional {
+                    allowed.insert(0, "none");
+                }
+                ConfigError::UnknownKind {
+                    origin: raw.origin.clone(),
+                    section: section.into(),
+                    kind: kind.clone(),
+                    allowed: allowed.join(", "),
+                }
+            })?;
         let params = resolved.map_err(|(path, message)| {
             let path = if path.is_empty() {
                 section.to_string()

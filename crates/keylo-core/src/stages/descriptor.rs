@@ -7,6 +7,9 @@ use crate::{CoreError, Descriptors, Image, Keypoint};
 /// `keypoints[i]`.
 pub trait Descriptor: Send {
     /// Descriptors of `keypoints` in `image`.
-    fn describe(&mut self, image: &Image, keypoints: &mut Vec<Keypoint>)
-        -> Result<Descriptors, CoreError>;
+    fn describe(
+        &mut self,
+        image: &Image,
+        keypoints: &mut Vec<Keypoint>,
+    ) -> Result<Descriptors, CoreError>;
 }

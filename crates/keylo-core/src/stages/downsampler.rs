@@ -6,6 +6,9 @@ use crate::{CoreError, FrameFeatures, LidarFrame, PointCloud};
 /// `features` is empty when the pipeline has no detector.
 pub trait Downsampler: Send {
     /// The cloud to register, in the sensor frame, keeping per-point times where it can.
-    fn downsample(&mut self, frame: &LidarFrame, features: &FrameFeatures)
-        -> Result<PointCloud, CoreError>;
+    fn downsample(
+        &mut self,
+        frame: &LidarFrame,
+        features: &FrameFeatures,
+    ) -> Result<PointCloud, CoreError>;
 }

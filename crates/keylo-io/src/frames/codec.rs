@@ -36,12 +36,23 @@ pub fn encode(frame: &LidarFrame) -> Vec<u8> {
     out.extend_from_slice(&(frame.cols as u32).to_le_bytes());
     out.extend_from_slice(&frame.index.to_le_bytes());
     out.extend_from_slice(&frame.timestamp.to_le_bytes());
-    frame.column_times.iter().for_each(|t| out.extend_from_slice(&t.to_le_bytes()));
-    for grid in [&frame.range, &frame.signal, &frame.reflectivity, &frame.near_ir] {
-        grid.iter().for_each(|v| out.extend_from_slice(&v.to_le_bytes()));
+    frame
+        .column_times
+        .iter()
+        .for_each(|t| out.extend_from_slice(&t.to_le_bytes()));
+    for grid in [
+        &frame.range,
+        &frame.signal,
+        &frame.reflectivity,
+        &frame.near_ir,
+    ] {
+        grid.iter()
+            .for_each(|v| out.extend_from_slice(&v.to_le_bytes()));
     }
     for p in &frame.points {
-        [p.x, p.y, p.z].iter().for_each(|v| out.extend_from_slice(&v.to_le_bytes()));
+        [p.x, p.y, p.z]
+            .iter()
+            .for_each(|v| out.extend_from_slice(&v.to_le_bytes()));
     }
     out.extend(frame.valid.iter().map(|v| u8::from(*v)));
     out
@@ -68,7 +79,10 @@ impl Reader<'_> {
 /// Parses a frame file's bytes; `path` names it in errors.
 pub fn decode(path: &Path, bytes: &[u8], beams: &Arc<BeamGeometry>) -> Result<LidarFrame, IoError> {
     if bytes.len() < 12 || &bytes[..4] != MAGIC {
-        return Err(IoError::format(path, "not a keylo frame file (magic `KLF1` missing)"));
+        return Err(IoError::format(
+            path,
+            "not a keylo frame file (magic `KLF1` missing)",
+        ));
     }
     let mut r = Reader { bytes, at: 4 };
     let rows = u32::from_le_bytes(r.take()) as usize;
@@ -77,7 +91,10 @@ pub fn decode(path: &Path, bytes: &[u8], beams: &Arc<BeamGeometry>) -> Result<Li
     if bytes.len() != expected {
         return Err(IoError::format(
             path,
-            format!("{} bytes, expected {expected} for {rows}x{cols} (truncated or corrupt)", bytes.len()),
+            format!(
+                "{} bytes, expected {expected} for {rows}x{cols} (truncated or corrupt)",
+                bytes.len()
+            ),
         ));
     }
     let n = rows * cols;
@@ -86,7 +103,10 @@ pub fn decode(path: &Path, bytes: &[u8], beams: &Arc<BeamGeometry>) -> Result<Li
     let column_times = (0..cols).map(|_| f64::from_le_bytes(r.take())).collect();
     let (range, signal, reflectivity, near_ir) = (r.f32s(n), r.f32s(n), r.f32s(n), r.f32s(n));
     let xyz = r.f32s(3 * n);
-    let points = xyz.chunks_exact(3).map(|c| Point3::new(c[0], c[1], c[2])).collect();
+    let points = xyz
+        .chunks_exact(3)
+        .map(|c| Point3::new(c[0], c[1], c[2]))
+        .collect();
     let valid = bytes[r.at..].iter().map(|b| *b != 0).collect();
     Ok(LidarFrame {
         index,

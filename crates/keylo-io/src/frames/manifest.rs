@@ -32,13 +32,20 @@ impl Manifest {
         if m.format != "keylo-frames" || m.version != 1 {
             return Err(IoError::format(
                 path,
-                format!("format `{}` version {}: expected `keylo-frames` version 1", m.format, m.version),
+                format!(
+                    "format `{}` version {}: expected `keylo-frames` version 1",
+                    m.format, m.version
+                ),
             ));
         }
         if m.beams.altitude_deg.len() != m.rows {
             return Err(IoError::format(
                 path,
-                format!("beams.altitude_deg has {} entries, expected rows = {}", m.beams.altitude_deg.len(), m.rows),
+                format!(
+                    "beams.altitude_deg has {} entries, expected rows = {}",
+                    m.beams.altitude_deg.len(),
+                    m.rows
+                ),
             ));
         }
         Ok(m)

@@ -44,14 +44,22 @@ impl FramesSource {
         let dir = ctx.resolve_path(&config.path);
         let manifest_path = dir.join(MANIFEST);
         if !manifest_path.is_file() {
-            return Err(IoError::format(&dir, format!("not a keylo frame folder: {MANIFEST} is missing")));
+            return Err(IoError::format(
+                &dir,
+                format!("not a keylo frame folder: {MANIFEST} is missing"),
+            ));
         }
         let manifest = Manifest::read(&manifest_path)?;
         let mut files = list_frames(&dir.join(FRAMES_DIR))?;
         if files.len() != manifest.frames {
             return Err(IoError::format(
                 &manifest_path,
-                format!("lists {} frames but {} holds {}", manifest.frames, FRAMES_DIR, files.len()),
+                format!(
+                    "lists {} frames but {} holds {}",
+                    manifest.frames,
+                    FRAMES_DIR,
+                    files.len()
+                ),
             ));
         }
         if files.is_empty() {
@@ -61,7 +69,10 @@ impl FramesSource {
             0 => files.len(),
             n => (config.start + n).min(files.len()),
         };
-        files = files.get(config.start.min(end)..end).map(<[_]>::to_vec).unwrap_or_default();
+        files = files
+            .get(config.start.min(end)..end)
+            .map(<[_]>::to_vec)
+            .unwrap_or_default();
         Ok(Self {
             dir,
             files,

@@ -13,7 +13,13 @@ pub struct FramesWriter {
 
 impl FramesWriter {
     /// Creates `dir/frames/` for frames of the given shape.
-    pub fn create(dir: &Path, rows: usize, cols: usize, beams: BeamGeometry, description: &str) -> Result<Self, IoError> {
+    pub fn create(
+        dir: &Path,
+        rows: usize,
+        cols: usize,
+        beams: BeamGeometry,
+        description: &str,
+    ) -> Result<Self, IoError> {
         let frames = dir.join(FRAMES_DIR);
         std::fs::create_dir_all(&frames).map_err(|e| IoError::io(&frames, e))?;
         Ok(Self {
@@ -39,7 +45,10 @@ impl FramesWriter {
         if frame.rows != self.manifest.rows || frame.cols != self.manifest.cols {
             return Err(IoError::format(
                 &path,
-                format!("frame is {}x{}, folder is {}x{}", frame.rows, frame.cols, self.manifest.rows, self.manifest.cols),
+                format!(
+                    "frame is {}x{}, folder is {}x{}",
+                    frame.rows, frame.cols, self.manifest.rows, self.manifest.cols
+                ),
             ));
         }
         std::fs::write(&path, codec::encode(frame)).map_err(|e| IoError::io(&path, e))?;

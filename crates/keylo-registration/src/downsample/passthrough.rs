@@ -17,7 +17,11 @@ impl Passthrough {
 }
 
 impl Downsampler for Passthrough {
-    fn downsample(&mut self, frame: &LidarFrame, _f: &FrameFeatures) -> Result<PointCloud, CoreError> {
+    fn downsample(
+        &mut self,
+        frame: &LidarFrame,
+        _f: &FrameFeatures,
+    ) -> Result<PointCloud, CoreError> {
         Ok(frame.to_cloud())
     }
 }

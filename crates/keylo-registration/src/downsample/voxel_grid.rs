@@ -4,7 +4,9 @@ use serde::{Deserialize, Serialize};
 use crate::voxel::{downsample_indices, voxel_of, VoxelMap};
 
 /// Which point represents a voxel.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum VoxelKeep {
     /// The first point in scan order (keeps its time; what KISS-ICP does).
@@ -44,7 +46,10 @@ impl VoxelDownsampler {
         if !(config.voxel_size.is_finite() && config.voxel_size > 0.0) {
             return Err(CoreError::stage(
                 "downsampler",
-                format!("`voxel_size` = {}: expected a finite value > 0", config.voxel_size),
+                format!(
+                    "`voxel_size` = {}: expected a finite value > 0",
+                    config.voxel_size
+                ),
             ));
         }
         Ok(Self { config })
@@ -52,10 +57,17 @@ impl VoxelDownsampler {
 }
 
 impl Downsampler for VoxelDownsampler {
-    fn downsample(&mut self, frame: &LidarFrame, _f: &FrameFeatures) -> Result<PointCloud, CoreError> {
+    fn downsample(
+        &mut self,
+        frame: &LidarFrame,
+        _f: &FrameFeatures,
+    ) -> Result<PointCloud, CoreError> {
         let full = frame.to_cloud();
         Ok(match self.config.keep {
-            VoxelKeep::First => select(&full, &downsample_indices(&full.points, self.config.voxel_size)),
+            VoxelKeep::First => select(
+                &full,
+                &downsample_indices(&full.points, self.config.voxel_size),
+            ),
             VoxelKeep::Centroid => centroids(&full, self.config.voxel_size),
         })
     }
@@ -65,8 +77,14 @@ fn select(cloud: &PointCloud, idx: &[usize]) -> PointCloud {
     PointCloud {
         timestamp: cloud.timestamp,
         points: idx.iter().map(|&i| cloud.points[i]).collect(),
-        times: cloud.times.as_ref().map(|t| idx.iter().map(|&i| t[i]).collect()),
-        intensities: cloud.intensities.as_ref().map(|v| idx.iter().map(|&i| v[i]).collect()),
+        times: cloud
+            .times
+            .as_ref()
+            .map(|t| idx.iter().map(|&i| t[i]).collect()),
+        intensities: cloud
+            .intensities
+            .as_ref()
+            .map(|v| idx.iter().map(|&i| v[i]).collect()),
     }
 }
 
@@ -89,8 +107,17 @@ fn centroids(cloud: &PointCloud, size: f64) -> PointCloud {
     }
     PointCloud {
         timestamp: cloud.timestamp,
-        points: sums.iter().map(|s| nalgebra::Point3::new(s.0[0] / s.3, s.0[1] / s.3, s.0[2] / s.3)).collect(),
-        times: cloud.times.as_ref().map(|_| sums.iter().map(|s| s.1 / s.3).collect()),
-        intensities: cloud.intensities.as_ref().map(|_| sums.iter().map(|s| (s.2 / s.3) as f32).collect()),
+        points: sums
+            .iter()
+            .map(|s| nalgebra::Point3::new(s.0[0] / s.3, s.0[1] / s.3, s.0[2] / s.3))
+            .collect(),
+        times: cloud
+            .times
+            .as_ref()
+            .map(|_| sums.iter().map(|s| s.1 / s.3).collect()),
+        intensities: cloud
+            .intensities
+            .as_ref()
+            .map(|_| sums.iter().map(|s| (s.2 / s.3) as f32).collect()),
     }
 }

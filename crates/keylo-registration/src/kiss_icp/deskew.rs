@@ -11,7 +11,9 @@ use crate::se3;
 pub fn deskew(points: &mut [Point3<f64>], times: &[f64], last_delta: &Isometry3<f64>) {
     let (min, max) = times
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| (a.min(t), b.max(t)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
+            (a.min(t), b.max(t))
+        });
     let span = max - min;
     if !(span > 0.0) || points.len() != times.len() {
         return;
@@ -36,12 +38,19 @@ mod tests {
     fn a_static_point_seen_while_moving_is_recovered() {
         // The sensor moves +1 m in x over the scan; a world point at x = 10 is seen at
         // x = 10 − s (s in [0, 1]). Expressed at the scan end (sensor at x = 1) it is x = 9.
-        let delta = Isometry3::from_parts(Translation3::new(1.0, 0.0, 0.0), UnitQuaternion::identity());
+        let delta =
+            Isometry3::from_parts(Translation3::new(1.0, 0.0, 0.0), UnitQuaternion::identity());
         let times: Vec<f64> = (0..11).map(|i| f64::from(i) * 0.01).collect();
-        let mut pts: Vec<_> = times.iter().map(|t| Point3::new(10.0 - t * 10.0, 0.0, 0.0)).collect();
+        let mut pts: Vec<_> = times
+            .iter()
+            .map(|t| Point3::new(10.0 - t * 10.0, 0.0, 0.0))
+            .collect();
         deskew(&mut pts, &times, &delta);
         for p in &pts {
-            assert!((p.coords - Vector3::new(9.0, 0.0, 0.0)).norm() < 1e-9, "{p}");
+            assert!(
+                (p.coords - Vector3::new(9.0, 0.0, 0.0)).norm() < 1e-9,
+                "{p}"
+            );
         }
     }
 

@@ -82,14 +82,19 @@ pub fn align(
         result.correspondences = system.count;
         let Some(dx) = solve(&system) else { break };
         let step = se3::exp(&dx);
-        scratch.par_iter_mut().with_min_len(CHUNK).for_each(|p| *p = step * *p);
+        scratch
+            .par_iter_mut()
+            .with_min_len(CHUNK)
+            .for_each(|p| *p = step * *p);
         t_icp = step * t_icp;
+        t_icp.rotation.renormalize();
         if dx.norm() < settings.convergence {
             result.converged = true;
             break;
         }
     }
     result.pose = t_icp * initial_guess;
+    result.pose.rotation.renormalize();
     result
 }
 
@@ -105,7 +110,9 @@ fn chunk_system(chunk: &[Point3<f64>], map: &VoxelHashMap, s: &IcpSettings) -> S
     let mut sys = System::zero();
     let kappa2 = s.kernel * s.kernel;
     for p in chunk {
-        let Some((q, d)) = map.closest_neighbour(p) else { continue };
+        let Some((q, d)) = map.closest_neighbour(p) else {
+            continue;
+        };
         if d >= s.max_distance {
             continue;
         }
@@ -121,7 +128,8 @@ fn chunk_system(chunk: &[Point3<f64>], map: &VoxelHashMap, s: &IcpSettings) -> S
 fn accumulate(sys: &mut System, p: &Point3<f64>, r: &nalgebra::Vector3<f64>, w: f64) {
     let mut j = nalgebra::Matrix3x6::<f64>::zeros();
     j.fixed_view_mut::<3, 3>(0, 0).fill_with_identity();
-    j.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-se3::hat(&p.coords)));
+    j.fixed_view_mut::<3, 3>(0, 3)
+        .copy_from(&(-se3::hat(&p.coords)));
     let jt = j.transpose();
     sys.jtj += jt * j * w;
     sys.jtr += jt * r * w;
@@ -150,7 +158,9 @@ mod tests {
     fn box_cloud() -> Vec<Point3<f64>> {
         let mut state = 12345u64;
         let mut rnd = move || {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
         (0..6000)
@@ -182,7 +192,13 @@ mod tests {
             max_distance: 3.0,
             kernel: 1.0,
         };
-        let r = align(&source, &map, &Isometry3::identity(), &settings, &mut Vec::new());
+        let r = align(
+            &source,
+            &map,
+            &Isometry3::identity(),
+            &settings,
+            &mut Vec::new(),
+        );
         let err = r.pose.inverse() * truth;
         assert!(r.converged);
         assert!(err.translation.vector.norm() < 0.01, "{err}");

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::check;
 use crate::{voxel, RegistrationError};
-use icp::{IcpSettings, IcpResult};
+use icp::{IcpResult, IcpSettings};
 use threshold::AdaptiveThreshold;
 use voxel_map::VoxelHashMap;
 
@@ -42,6 +42,9 @@ pub struct KissIcpConfig {
     pub convergence_criterion: f64,
     /// Worker threads for this registrar; 0 = the process-wide pool.
     pub max_num_threads: usize,
+    /// Divergence guard: a frame whose pose moves more than this from the previous one (m) is
+    /// rejected with an error and the state is kept; 0 disables the guard.
+    pub max_motion_per_frame: f64,
 }
 
 impl Default for KissIcpConfig {
@@ -58,6 +61,7 @@ impl Default for KissIcpConfig {
             max_num_iterations: 500,
             convergence_criterion: 1e-4,
             max_num_threads: 0,
+            max_motion_per_frame: 5.0,
         }
     }
 }
@@ -74,20 +78,66 @@ impl KissIcpConfig {
 
     fn validate(&self) -> Result<(), RegistrationError> {
         let finite_pos = |v: f64| v.is_finite() && v > 0.0;
-        check(finite_pos(self.max_range), "max_range", self.max_range, "expected a finite value > 0")?;
+        check(
+            finite_pos(self.max_range),
+            "max_range",
+            self.max_range,
+            "expected a finite value > 0",
+        )?;
         check(
             self.min_range.is_finite() && self.min_range >= 0.0 && self.min_range < self.max_range,
             "min_range",
             self.min_range,
             "expected 0 <= min_range < max_range",
         )?;
-        check(self.voxel_size.is_finite() && self.voxel_size >= 0.0, "voxel_size", self.voxel_size, "expected >= 0 (0 = max_range/100)")?;
-        check(self.max_points_per_voxel >= 1, "max_points_per_voxel", self.max_points_per_voxel, "expected >= 1")?;
-        check(finite_pos(self.initial_threshold), "initial_threshold", self.initial_threshold, "expected a finite value > 0")?;
-        check(self.min_motion_th.is_finite() && self.min_motion_th >= 0.0, "min_motion_th", self.min_motion_th, "expected >= 0")?;
-        check(self.fixed_threshold.is_finite() && self.fixed_threshold >= 0.0, "fixed_threshold", self.fixed_threshold, "expected >= 0 (0 = adaptive)")?;
-        check(self.max_num_iterations >= 1, "max_num_iterations", self.max_num_iterations, "expected >= 1")?;
-        check(finite_pos(self.convergence_criterion), "convergence_criterion", self.convergence_criterion, "expected a finite value > 0")
+        check(
+            self.voxel_size.is_finite() && self.voxel_size >= 0.0,
+            "voxel_size",
+            self.voxel_size,
+            "expected >= 0 (0 = max_range/100)",
+        )?;
+        check(
+            self.max_points_per_voxel >= 1,
+            "max_points_per_voxel",
+            self.max_points_per_voxel,
+            "expected >= 1",
+        )?;
+        check(
+            finite_pos(self.initial_threshold),
+            "initial_threshold",
+            self.initial_threshold,
+            "expected a finite value > 0",
+        )?;
+        check(
+            self.min_motion_th.is_finite() && self.min_motion_th >= 0.0,
+            "min_motion_th",
+            self.min_motion_th,
+            "expected >= 0",
+        )?;
+        check(
+            self.fixed_threshold.is_finite() && self.fixed_threshold >= 0.0,
+            "fixed_threshold",
+            self.fixed_threshold,
+            "expected >= 0 (0 = adaptive)",
+        )?;
+        check(
+            self.max_num_iterations >= 1,
+            "max_num_iterations",
+            self.max_num_iterations,
+            "expected >= 1",
+        )?;
+        check(
+            finite_pos(self.convergence_criterion),
+            "convergence_criterion",
+            self.convergence_criterion,
+            "expected a finite value > 0",
+        )?;
+        check(
+            self.max_motion_per_frame.is_finite() && self.max_motion_per_frame >= 0.0,
+            "max_motion_per_frame",
+            self.max_motion_per_frame,
+            "expected >= 0 (0 = no guard)",
+        )
     }
 }
 
@@ -114,7 +164,11 @@ impl KissIcp {
         };
         Ok(Self {
             map: VoxelHashMap::new(voxel_size, config.max_range, config.max_points_per_voxel),
-            threshold: AdaptiveThreshold::new(config.initial_threshold, config.min_motion_th, config.max_range),
+            threshold: AdaptiveThreshold::new(
+                config.initial_threshold,
+                config.min_motion_th,
+                config.max_range,
+            ),
             voxel_size,
             config,
             last_pose: Isometry3::identity(),
@@ -158,7 +212,28 @@ impl KissIcp {
         }
     }
 
-    fn register_points(&mut self, cloud: &PointCloud) -> Result<(IcpResult, usize), RegistrationError> {
+    /// Rejects a non-finite pose or one that jumped beyond `max_motion_per_frame`.
+    fn check_divergence(&self, pose: &Isometry3<f64>) -> Result<(), RegistrationError> {
+        let finite = pose
+            .translation
+            .vector
+            .iter()
+            .chain(pose.rotation.coords.iter())
+            .all(|v| v.is_finite());
+        let step = (self.last_pose.inverse() * pose).translation.vector.norm();
+        let bound = self.config.max_motion_per_frame;
+        if !finite || (bound > 0.0 && step > bound) {
+            return Err(RegistrationError::Diverged(format!(
+                "diverged: the pose moved {step:.3} m in one frame (bound `max_motion_per_frame` = {bound} m)"
+            )));
+        }
+        Ok(())
+    }
+
+    fn register_points(
+        &mut self,
+        cloud: &PointCloud,
+    ) -> Result<(IcpResult, usize), RegistrationError> {
         let frame = self.preprocess(cloud);
         if frame.is_empty() {
             return Err(RegistrationError::BadCloud(format!(
@@ -178,11 +253,21 @@ impl KissIcp {
             max_distance: 3.0 * sigma,
             kernel: sigma,
         };
-        let result = icp::align(&source, &self.map, &initial_guess, &settings, &mut self.scratch);
+        let result = icp::align(
+            &source,
+            &self.map,
+            &initial_guess,
+            &settings,
+            &mut self.scratch,
+        );
         let new_pose = result.pose;
+        self.check_divergence(&new_pose)?;
         self.threshold.update(&(initial_guess.inverse() * new_pose));
         self.map.update(&frame_downsample, &new_pose);
         self.last_delta = self.last_pose.inverse() * new_pose;
+        // Unit quaternions drift off unit norm through repeated products; the error compounds
+        // geometrically through `last_pose⁻¹ · new_pose`, so renormalise every frame.
+        self.last_delta.rotation.renormalize();
         self.last_pose = new_pose;
         Ok((result, source.len()))
     }

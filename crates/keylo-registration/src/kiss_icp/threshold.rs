@@ -31,7 +31,8 @@ impl AdaptiveThreshold {
     /// Adds the deviation between prediction and result when it exceeds the motion gate.
     pub fn update(&mut self, deviation: &Isometry3<f64>) {
         let theta = deviation.rotation.angle();
-        let error = deviation.translation.vector.norm() + 2.0 * self.max_range * (theta / 2.0).sin();
+        let error =
+            deviation.translation.vector.norm() + 2.0 * self.max_range * (theta / 2.0).sin();
         if error > self.min_motion {
             self.model_sse += error * error;
             self.samples += 1;

@@ -9,7 +9,11 @@ const NEIGHBOURS: [Voxel; 27] = {
     let mut out = [[0i32; 3]; 27];
     let mut i = 0;
     while i < 27 {
-        out[i] = [(i % 3) as i32 - 1, ((i / 3) % 3) as i32 - 1, (i / 9) as i32 - 1];
+        out[i] = [
+            (i % 3) as i32 - 1,
+            ((i / 3) % 3) as i32 - 1,
+            (i / 9) as i32 - 1,
+        ];
         i += 1;
     }
     out
@@ -81,8 +85,15 @@ impl VoxelHashMap {
     fn add_point(&mut self, point: Point3<f64>, resolution2: f64) {
         let voxel = voxel_of(&point, self.voxel_size);
         let max = self.max_points_per_voxel;
-        let block = self.map.entry(voxel).or_insert_with(|| Vec::with_capacity(max));
-        if block.len() >= max || block.iter().any(|q| (q - point).norm_squared() < resolution2) {
+        let block = self
+            .map
+            .entry(voxel)
+            .or_insert_with(|| Vec::with_capacity(max));
+        if block.len() >= max
+            || block
+                .iter()
+                .any(|q| (q - point).norm_squared() < resolution2)
+        {
             return;
         }
         block.push(point);
@@ -90,8 +101,11 @@ impl VoxelHashMap {
 
     fn remove_far_from(&mut self, origin: &Vector3<f64>) {
         let max2 = self.max_distance * self.max_distance;
-        self.map
-            .retain(|_, block| block.first().is_some_and(|p| (p.coords - origin).norm_squared() < max2));
+        self.map.retain(|_, block| {
+            block
+                .first()
+                .is_some_and(|p| (p.coords - origin).norm_squared() < max2)
+        });
     }
 }
 
@@ -111,7 +125,9 @@ mod tests {
     #[test]
     fn caps_points_per_voxel_and_keeps_spacing() {
         let mut map = VoxelHashMap::new(1.0, 100.0, 4);
-        let pts: Vec<_> = (0..100).map(|i| Point3::new(0.01 * f64::from(i % 10), 0.5, 0.5)).collect();
+        let pts: Vec<_> = (0..100)
+            .map(|i| Point3::new(0.01 * f64::from(i % 10), 0.5, 0.5))
+            .collect();
         map.update(&pts, &Isometry3::identity());
         assert!(map.len() <= 4);
         // resolution = sqrt(1/4) = 0.5: points 0.01 apart are rejected
@@ -121,10 +137,15 @@ mod tests {
     #[test]
     fn finds_nearest_across_voxel_borders_and_prunes() {
         let mut map = VoxelHashMap::new(1.0, 5.0, 20);
-        map.update(&[Point3::new(1.05, 0.0, 0.0), Point3::new(3.0, 0.0, 0.0)], &Isometry3::identity());
+        map.update(
+            &[Point3::new(1.05, 0.0, 0.0), Point3::new(3.0, 0.0, 0.0)],
+            &Isometry3::identity(),
+        );
         let (p, d) = map.closest_neighbour(&Point3::new(0.95, 0.0, 0.0)).unwrap();
         assert!((p.x - 1.05).abs() < 1e-12 && (d - 0.1).abs() < 1e-12);
-        assert!(map.closest_neighbour(&Point3::new(-5.0, 0.0, 0.0)).is_none());
+        assert!(map
+            .closest_neighbour(&Point3::new(-5.0, 0.0, 0.0))
+            .is_none());
         let far = Isometry3::translation(10.0, 0.0, 0.0);
         map.update(&[], &far);
         assert!(map.is_empty());
