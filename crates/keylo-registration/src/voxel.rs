@@ -86,9 +86,80 @@ pub fn downsample(points: &[Point3<f64>], size: f64) -> Vec<Point3<f64>> {
         .collect()
 }
 
+/// Upstream's voxel hash (`std::hash<Voxel>` in kiss-icp): 32-bit products XOR-ed.
+#[inline]
+fn upstream_hash(v: &Voxel) -> usize {
+    ((v[0] as u32).wrapping_mul(73_856_093)
+        ^ (v[1] as u32).wrapping_mul(19_349_669)
+        ^ (v[2] as u32).wrapping_mul(83_492_791)) as usize
+}
+
+/// Like [`downsample`] (first point of every voxel), but returned in the order upstream
+/// KISS-ICP's `VoxelDownsample` returns them: the iteration order of a `tsl::robin_map`
+/// reserved for `points.len()` entries (power-of-two buckets, load factor 0.5, robin-hood
+/// linear probing, upstream's voxel hash). The order decides which point represents a voxel
+/// in a second, coarser downsampling and in which order points enter the local map, so
+/// reproducing it makes keylo select exactly the points upstream selects.
+pub fn downsample_upstream_order(points: &[Point3<f64>], size: f64) -> Vec<Point3<f64>> {
+    let kept = downsample_indices(points, size);
+    let buckets = (2 * points.len()).max(1).next_power_of_two();
+    let mask = buckets - 1;
+    // (point index + 1, distance from the home bucket); 0 marks an empty bucket.
+    let mut table = vec![(0usize, 0usize); buckets];
+    for &i in &kept {
+        let mut entry = (i + 1, 0usize);
+        let mut b = upstream_hash(&voxel_of(&points[i], size)) & mask;
+        loop {
+            let slot = &mut table[b];
+            if slot.0 == 0 {
+                *slot = entry;
+                break;
+            }
+            if slot.1 < entry.1 {
+                std::mem::swap(slot, &mut entry);
+            }
+            b = (b + 1) & mask;
+            entry.1 += 1;
+        }
+    }
+    table
+        .iter()
+        .filter(|s| s.0 != 0)
+        .map(|s| points[s.0 - 1])
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn upstream_order_keeps_the_same_points_in_bucket_order() {
+        let pts: Vec<_> = (0..500)
+            .map(|i| {
+                Point3::new(
+                    f64::from(i % 23) * 0.37 - 4.0,
+                    f64::from(i % 7) * 0.51,
+                    f64::from(i / 50) * 0.3 - 1.0,
+                )
+            })
+            .collect();
+        let mut a = downsample(&pts, 0.5);
+        let mut b = downsample_upstream_order(&pts, 0.5);
+        assert_ne!(a, b, "order should differ from scan order");
+        let key = |p: &Point3<f64>| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
+        a.sort_by_key(key);
+        b.sort_by_key(key);
+        assert_eq!(a, b);
+        // Home buckets are non-decreasing except where probing wrapped around the table end.
+        let buckets = 1024usize;
+        let homes: Vec<usize> = downsample_upstream_order(&pts, 0.5)
+            .iter()
+            .map(|p| upstream_hash(&voxel_of(p, 0.5)) & (buckets - 1))
+            .collect();
+        let descents = homes.windows(2).filter(|w| w[1] < w[0]).count();
+        assert!(descents <= 1, "{descents}");
+    }
 
     #[test]
     fn negative_coordinates_floor() {

@@ -243,8 +243,10 @@ impl KissIcp {
                 cloud.len()
             )));
         }
-        let frame_downsample = voxel::downsample(&frame, self.voxel_size * 0.5);
-        let source = voxel::downsample(&frame_downsample, self.voxel_size * 1.5);
+        // Upstream's point order, so that the 1.5× downsampling and the map update select
+        // the same points as upstream (see `voxel::downsample_upstream_order`).
+        let frame_downsample = voxel::downsample_upstream_order(&frame, self.voxel_size * 0.5);
+        let source = voxel::downsample_upstream_order(&frame_downsample, self.voxel_size * 1.5);
         let sigma = self.sigma();
         let initial_guess = self.last_pose * self.last_delta;
         let settings = IcpSettings {
