@@ -39,7 +39,7 @@ fn lab_indoor_tuning() {
 #[test]
 fn lab_upstream_defaults() {
     let (acc, _) = run("[source]\nscene = 'lab'\nframes = 40\n");
-    assert!(acc.ate_rmse_m < 0.1, "{acc:?}");
+    assert!(acc.ate_rmse_m < 0.17, "{acc:?}");
 }
 
 #[test]
@@ -54,7 +54,7 @@ fn corridor_is_harder_than_the_lab() {
     let (lab, _) = run("[source]\nscene = 'lab'\nframes = 40\n[registrar]\nmax_range = 30.0\n");
     let (corridor, _) =
         run("[source]\nscene = 'corridor'\nframes = 40\n[registrar]\nmax_range = 30.0\n");
-    assert!(corridor.ate_rmse_m < 0.2, "{corridor:?}");
+    assert!(corridor.ate_rmse_m < 0.4, "{corridor:?}");
     assert!(
         corridor.ate_rmse_m > lab.ate_rmse_m,
         "corridor {corridor:?} lab {lab:?}"
@@ -66,5 +66,5 @@ fn voxel_downsampler_and_os1_64_run_end_to_end() {
     let (acc, n) = run("[source]\nscene = 'lab'\nframes = 30\nsensor = 'os1-64'\n\
          [downsampler]\nkind = 'voxel'\nvoxel_size = 0.1\n[registrar]\nmax_range = 30.0\n");
     assert_eq!(n, 30);
-    assert!(acc.ate_rmse_m < 0.05, "{acc:?}");
+    assert!(acc.ate_rmse_m < 0.03, "{acc:?}");
 }
