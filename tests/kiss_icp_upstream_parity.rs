@@ -71,6 +71,12 @@ fn keylo_matches_official_kiss_icp_on_the_same_frames() {
         worst.0 = worst.0.max(d.translation.vector.norm());
         worst.1 = worst.1.max(d.rotation.angle().to_degrees());
     }
-    println!("largest pose difference: {:.2e} m, {:.2e} deg", worst.0, worst.1);
-    assert!(worst.0 < 1e-4 && worst.1 < 1e-3, "poses differ from upstream by {worst:?}");
+    println!(
+        "largest pose difference: {:.2e} m, {:.2e} deg",
+        worst.0, worst.1
+    );
+    assert!(
+        worst.0 < 1e-4 && worst.1 < 1e-3,
+        "poses differ from upstream by {worst:?}"
+    );
 }

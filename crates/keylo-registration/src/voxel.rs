@@ -94,39 +94,94 @@ fn upstream_hash(v: &Voxel) -> usize {
         ^ (v[2] as u32).wrapping_mul(83_492_791)) as usize
 }
 
-/// Like [`downsample`] (first point of every voxel), but returned in the order upstream
-/// KISS-ICP's `VoxelDownsample` returns them: the iteration order of a `tsl::robin_map`
-/// reserved for `points.len()` entries (power-of-two buckets, load factor 0.5, robin-hood
-/// linear probing, upstream's voxel hash). The order decides which point represents a voxel
-/// in a second, coarser downsampling and in which order points enter the local map, so
-/// reproducing it makes keylo select exactly the points upstream selects.
-pub fn downsample_upstream_order(points: &[Point3<f64>], size: f64) -> Vec<Point3<f64>> {
-    let kept = downsample_indices(points, size);
-    let buckets = (2 * points.len()).max(1).next_power_of_two();
-    let mask = buckets - 1;
-    // (point index + 1, distance from the home bucket); 0 marks an empty bucket.
-    let mut table = vec![(0usize, 0usize); buckets];
-    for &i in &kept {
-        let mut entry = (i + 1, 0usize);
-        let mut b = upstream_hash(&voxel_of(&points[i], size)) & mask;
+/// One bucket of [`UpstreamGrid`].
+#[derive(Clone, Copy)]
+struct Slot {
+    voxel: Voxel,
+    /// Index of the point in the input; `u32::MAX` marks an empty bucket.
+    index: u32,
+    /// Distance from the voxel's home bucket.
+    dist: u32,
+}
+
+const EMPTY: Slot = Slot {
+    voxel: [0; 3],
+    index: u32::MAX,
+    dist: 0,
+};
+
+/// The voxel grid of upstream KISS-ICP's `VoxelDownsample`, reproduced exactly: a
+/// `tsl::robin_map` reserved for `points.len()` entries (power-of-two buckets, load factor 0.5,
+/// robin-hood linear probing, upstream's voxel hash), keeping the first point of every voxel
+/// and yielding the points in the table's iteration order.
+///
+/// That order decides which point represents a voxel in the second, coarser downsampling and
+/// the order in which points enter the local map, so reproducing it makes keylo select exactly
+/// the points upstream selects. The bucket array is reused between calls.
+#[derive(Default)]
+pub struct UpstreamGrid {
+    slots: Vec<Slot>,
+}
+
+impl UpstreamGrid {
+    /// Downsamples `points` with voxels of edge `size` into `out` (cleared first).
+    pub fn downsample_into(
+        &mut self,
+        points: &[Point3<f64>],
+        size: f64,
+        out: &mut Vec<Point3<f64>>,
+    ) {
+        out.clear();
+        let buckets = (2 * points.len()).max(1).next_power_of_two();
+        self.slots.clear();
+        self.slots.resize(buckets, EMPTY);
+        let mask = buckets - 1;
+        for (i, p) in points.iter().enumerate() {
+            let voxel = voxel_of(p, size);
+            self.insert(voxel, i as u32, upstream_hash(&voxel) & mask, mask);
+        }
+        out.extend(
+            self.slots
+                .iter()
+                .filter(|s| s.index != u32::MAX)
+                .map(|s| points[s.index as usize]),
+        );
+    }
+
+    /// Robin-hood insertion; a voxel already present is left alone (first point wins).
+    #[inline]
+    fn insert(&mut self, voxel: Voxel, index: u32, home: usize, mask: usize) {
+        let mut entry = Slot {
+            voxel,
+            index,
+            dist: 0,
+        };
+        let mut b = home;
+        let mut displacing = false;
         loop {
-            let slot = &mut table[b];
-            if slot.0 == 0 {
+            let slot = &mut self.slots[b];
+            if slot.index == u32::MAX {
                 *slot = entry;
-                break;
+                return;
             }
-            if slot.1 < entry.1 {
+            if !displacing && slot.voxel == voxel {
+                return;
+            }
+            if slot.dist < entry.dist {
                 std::mem::swap(slot, &mut entry);
+                displacing = true;
             }
             b = (b + 1) & mask;
-            entry.1 += 1;
+            entry.dist += 1;
         }
     }
-    table
-        .iter()
-        .filter(|s| s.0 != 0)
-        .map(|s| points[s.0 - 1])
-        .collect()
+}
+
+/// [`UpstreamGrid::downsample_into`] with a fresh grid.
+pub fn downsample_upstream_order(points: &[Point3<f64>], size: f64) -> Vec<Point3<f64>> {
+    let mut out = Vec::new();
+    UpstreamGrid::default().downsample_into(points, size, &mut out);
+    out
 }
 
 #[cfg(test)]

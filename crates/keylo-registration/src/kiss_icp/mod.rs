@@ -151,6 +151,9 @@ pub struct KissIcp {
     last_delta: Isometry3<f64>,
     pool: Option<rayon::ThreadPool>,
     scratch: Vec<Point3<f64>>,
+    grid: voxel::UpstreamGrid,
+    frame_downsample: Vec<Point3<f64>>,
+    source: Vec<Point3<f64>>,
 }
 
 impl KissIcp {
@@ -175,6 +178,9 @@ impl KissIcp {
             last_delta: Isometry3::identity(),
             pool,
             scratch: Vec::new(),
+            grid: voxel::UpstreamGrid::default(),
+            frame_downsample: Vec::new(),
+            source: Vec::new(),
         })
     }
 
@@ -245,8 +251,14 @@ impl KissIcp {
         }
         // Upstream's point order, so that the 1.5× downsampling and the map update select
         // the same points as upstream (see `voxel::downsample_upstream_order`).
-        let frame_downsample = voxel::downsample_upstream_order(&frame, self.voxel_size * 0.5);
-        let source = voxel::downsample_upstream_order(&frame_downsample, self.voxel_size * 1.5);
+        let (mut frame_downsample, mut source) = (
+            std::mem::take(&mut self.frame_downsample),
+            std::mem::take(&mut self.source),
+        );
+        self.grid
+            .downsample_into(&frame, self.voxel_size * 0.5, &mut frame_downsample);
+        self.grid
+            .downsample_into(&frame_downsample, self.voxel_size * 1.5, &mut source);
         let sigma = self.sigma();
         let initial_guess = self.last_pose * self.last_delta;
         let settings = IcpSettings {
@@ -266,12 +278,14 @@ impl KissIcp {
         self.check_divergence(&new_pose)?;
         self.threshold.update(&(initial_guess.inverse() * new_pose));
         self.map.update(&frame_downsample, &new_pose);
+        let registered = source.len();
+        (self.frame_downsample, self.source) = (frame_downsample, source);
         self.last_delta = self.last_pose.inverse() * new_pose;
         // Unit quaternions drift off unit norm through repeated products; the error compounds
         // geometrically through `last_pose⁻¹ · new_pose`, so renormalise every frame.
         self.last_delta.rotation.renormalize();
         self.last_pose = new_pose;
-        Ok((result, source.len()))
+        Ok((result, registered))
     }
 }
 

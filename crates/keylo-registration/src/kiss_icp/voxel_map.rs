@@ -4,20 +4,37 @@ use nalgebra::{Isometry3, Point3, Vector3};
 
 use crate::voxel::{voxel_of, Voxel, VoxelMap};
 
-/// Offsets of the 27 voxels around (and including) a query voxel.
-const NEIGHBOURS: [Voxel; 27] = {
-    let mut out = [[0i32; 3]; 27];
-    let mut i = 0;
-    while i < 27 {
-        out[i] = [
-            (i % 3) as i32 - 1,
-            ((i / 3) % 3) as i32 - 1,
-            (i / 9) as i32 - 1,
-        ];
-        i += 1;
-    }
-    out
-};
+/// Offsets of the 27 voxels around (and including) a query voxel, in upstream's order
+/// (centre first), so that ties between equally near points resolve as upstream resolves them.
+const NEIGHBOURS: [Voxel; 27] = [
+    [0, 0, 0],
+    [1, 0, 0],
+    [-1, 0, 0],
+    [0, 1, 0],
+    [0, -1, 0],
+    [0, 0, 1],
+    [0, 0, -1],
+    [1, 1, 0],
+    [1, -1, 0],
+    [-1, 1, 0],
+    [-1, -1, 0],
+    [1, 0, 1],
+    [1, 0, -1],
+    [-1, 0, 1],
+    [-1, 0, -1],
+    [0, 1, 1],
+    [0, 1, -1],
+    [0, -1, 1],
+    [0, -1, -1],
+    [1, 1, 1],
+    [1, 1, -1],
+    [1, -1, 1],
+    [1, -1, -1],
+    [-1, 1, 1],
+    [-1, 1, -1],
+    [-1, -1, 1],
+    [-1, -1, -1],
+];
 
 /// A voxel-hash point map, as upstream's `VoxelHashMap`.
 #[derive(Debug, Clone)]
@@ -54,23 +71,56 @@ impl VoxelHashMap {
         self.map.values().flatten().copied().collect()
     }
 
-    /// Nearest map point to `query` among the 27 voxels around it, with its distance.
+    /// Nearest map point to `query` among the 27 voxels around it, with its distance, if it is
+    /// closer than `max_distance` (upstream searches all 27 voxels and then applies the
+    /// threshold; skipping voxels that cannot hold a point closer than both the best so far and
+    /// `max_distance` gives the same answer with far fewer lookups).
     #[inline]
-    pub fn closest_neighbour(&self, query: &Point3<f64>) -> Option<(Point3<f64>, f64)> {
-        let [vx, vy, vz] = voxel_of(query, self.voxel_size);
-        let mut best: Option<(Point3<f64>, f64)> = None;
-        for [dx, dy, dz] in NEIGHBOURS {
-            let Some(points) = self.map.get(&[vx + dx, vy + dy, vz + dz]) else {
+    pub fn closest_neighbour_within(
+        &self,
+        query: &Point3<f64>,
+        max_distance: f64,
+    ) -> Option<(Point3<f64>, f64)> {
+        let v = voxel_of(query, self.voxel_size);
+        // Distance from the query to the low and high faces of its voxel, per axis.
+        let mut below = [0.0; 3];
+        let mut above = [0.0; 3];
+        for k in 0..3 {
+            let low = f64::from(v[k]) * self.voxel_size;
+            below[k] = query[k] - low;
+            above[k] = low + self.voxel_size - query[k];
+        }
+        let mut best: Option<Point3<f64>> = None;
+        let mut best_d2 = max_distance * max_distance;
+        for d in NEIGHBOURS {
+            let mut gap2 = 0.0;
+            for k in 0..3 {
+                gap2 += match d[k] {
+                    1 => above[k] * above[k],
+                    -1 => below[k] * below[k],
+                    _ => 0.0,
+                };
+            }
+            if gap2 >= best_d2 {
+                continue;
+            }
+            let Some(points) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
                 continue;
             };
             for p in points {
                 let d2 = (p - query).norm_squared();
-                if best.is_none_or(|(_, b)| d2 < b) {
-                    best = Some((*p, d2));
+                if d2 < best_d2 {
+                    best = Some(*p);
+                    best_d2 = d2;
                 }
             }
         }
-        best.map(|(p, d2)| (p, d2.sqrt()))
+        best.map(|p| (p, best_d2.sqrt()))
+    }
+
+    /// Nearest map point among the 27 voxels around `query`, at any distance.
+    pub fn closest_neighbour(&self, query: &Point3<f64>) -> Option<(Point3<f64>, f64)> {
+        self.closest_neighbour_within(query, f64::INFINITY)
     }
 
     /// Adds `points` (sensor frame) seen from `pose`, then prunes far points.
@@ -112,6 +162,41 @@ impl VoxelHashMap {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Brute force over the 27 voxels, as upstream does.
+    fn brute(map: &VoxelHashMap, q: &Point3<f64>) -> Option<(Point3<f64>, f64)> {
+        map.points()
+            .into_iter()
+            .filter(|p| {
+                let (a, b) = (voxel_of(p, map.voxel_size), voxel_of(q, map.voxel_size));
+                (0..3).all(|k| (a[k] - b[k]).abs() <= 1)
+            })
+            .map(|p| (p, (p - q).norm()))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    #[test]
+    fn pruned_search_equals_brute_force() {
+        let mut state = 7u64;
+        let mut rnd = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 6.0 - 3.0
+        };
+        let pts: Vec<_> = (0..3000)
+            .map(|_| Point3::new(rnd(), rnd(), rnd()))
+            .collect();
+        let mut map = VoxelHashMap::new(0.5, 100.0, 20);
+        map.update(&pts, &Isometry3::identity());
+        for _ in 0..2000 {
+            let q = Point3::new(rnd(), rnd(), rnd());
+            let expected = brute(&map, &q);
+            assert_eq!(map.closest_neighbour(&q), expected);
+            let within = map.closest_neighbour_within(&q, 0.1);
+            assert_eq!(within, expected.filter(|(_, d)| *d < 0.1));
+        }
+    }
 
     #[test]
     fn neighbours_cover_the_cube() {
