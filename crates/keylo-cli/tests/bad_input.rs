@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{keylo, small_sim, stderr};
+use common::{keylo, keylo_line, small_sim, stderr};
 use keylo::io::frames::codec;
 
 fn no_panic(o: &std::process::Output) {
@@ -14,7 +14,7 @@ fn no_panic(o: &std::process::Output) {
 #[test]
 fn missing_config_file_is_named() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = keylo(&["run", "nope.toml", "-q"], tmp.path());
+    let o = keylo_line("run nope.toml -q", tmp.path());
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("nope.toml"), "{}", stderr(&o));
     no_panic(&o);
@@ -78,15 +78,8 @@ fn unknown_section_key_kind_and_wrong_type_name_the_key() {
 #[test]
 fn bad_parameter_values_are_rejected_at_build_time() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = keylo(
-        &[
-            "run",
-            "--set",
-            "registrar.max_range=-1",
-            "--set",
-            "source.frames=2",
-            "-q",
-        ],
+    let o = keylo_line(
+        "run --set registrar.max_range=-1 --set source.frames=2 -q",
         tmp.path(),
     );
     assert_eq!(o.status.code(), Some(2));
@@ -97,7 +90,7 @@ fn bad_parameter_values_are_rejected_at_build_time() {
 #[test]
 fn data_paths_that_hold_no_frames_are_errors() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = keylo(&["run", "--data", "missing-dir", "-q"], tmp.path());
+    let o = keylo_line("run --data missing-dir -q", tmp.path());
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("missing-dir"));
     let empty = tmp.path().join("empty");
@@ -211,7 +204,7 @@ fn bad_trajectory_files_are_named_by_eval() {
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("a.tum"), "0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0\n").unwrap();
     std::fs::write(tmp.path().join("b.tum"), "0 0 0 0 0 0 0 1\n").unwrap();
-    let o = keylo(&["eval", "--est", "a.tum", "--gt", "b.tum"], tmp.path());
+    let o = keylo_line("eval --est a.tum --gt b.tum", tmp.path());
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("a.tum"), "{}", stderr(&o));
     no_panic(&o);

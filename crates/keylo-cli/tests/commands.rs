@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{keylo, small_sim, stderr, stdout};
+use common::{keylo, keylo_line, small_sim, stderr, stdout};
 
 #[test]
 fn run_writes_trajectories_summary_and_config() {
@@ -53,10 +53,7 @@ fn run_writes_trajectories_summary_and_config() {
 #[test]
 fn config_show_fills_defaults_with_docs() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = keylo(
-        &["config", "show", "--set", "registrar.voxel_size=0.5"],
-        tmp.path(),
-    );
+    let o = keylo_line("config show --set registrar.voxel_size=0.5", tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
     assert!(text.contains("voxel_size = 0.5"), "{text}");
@@ -71,9 +68,9 @@ fn config_show_fills_defaults_with_docs() {
 #[test]
 fn config_kinds_and_docs_list_backends() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = keylo(&["config", "kinds"], tmp.path());
+    let o = keylo_line("config kinds", tmp.path());
     assert!(stdout(&o).contains("kiss-icp") && stdout(&o).contains("passthrough"));
-    let o = keylo(&["config", "docs"], tmp.path());
+    let o = keylo_line("config docs", tmp.path());
     assert!(
         stdout(&o).contains("| `max_points_per_voxel` | `20` |"),
         "{}",
@@ -84,19 +81,8 @@ fn config_kinds_and_docs_list_backends() {
 #[test]
 fn kitti_bin_export_writes_bins_and_index_stamped_gt() {
     let tmp = tempfile::tempdir().unwrap();
-    let o = keylo(
-        &[
-            "sim",
-            "--frames",
-            "3",
-            "--format",
-            "kitti-bin",
-            "--out",
-            "bins",
-            "--set",
-            "sensor=os1-64",
-            "-q",
-        ],
+    let o = keylo_line(
+        "sim --frames 3 --format kitti-bin --out bins --set sensor=os1-64 -q",
         tmp.path(),
     );
     assert!(o.status.success(), "{}", stderr(&o));

@@ -15,7 +15,7 @@ pub fn deskew(points: &mut [Point3<f64>], times: &[f64], last_delta: &Isometry3<
             (a.min(t), b.max(t))
         });
     let span = max - min;
-    if !(span > 0.0) || points.len() != times.len() {
+    if span.is_nan() || span <= 0.0 || points.len() != times.len() {
         return;
     }
     let omega = se3::log(last_delta);

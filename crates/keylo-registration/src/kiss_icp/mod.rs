@@ -316,7 +316,8 @@ impl Registrar for KissIcp {
             pose: result.pose,
             source_points,
             iterations: result.iterations,
-            converged: result.converged || self.map.len() == 0,
+            // The first frame has no map to align to: nothing to converge.
+            converged: result.converged || result.iterations == 0,
         })
     }
 

@@ -11,16 +11,25 @@ pub fn keylo(args: &[&str], cwd: &Path) -> Output {
         .expect("the keylo binary runs")
 }
 
+/// Runs `keylo` with a whitespace-separated argument line (test paths hold no spaces).
+pub fn keylo_line(line: &str, cwd: &Path) -> Output {
+    let args: Vec<&str> = line.split_whitespace().collect();
+    keylo(&args, cwd)
+}
+
+#[allow(dead_code)]
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+#[allow(dead_code)]
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
 /// A small simulated frame folder (OS1-64, 512 columns) for fast tests.
 pub fn small_sim(dir: &Path, frames: usize) {
+    std::fs::create_dir_all(dir).expect("create the data folder");
     let out = dir.to_str().expect("utf-8 temp path");
     let o = keylo(
         &[
