@@ -98,3 +98,16 @@ fn kitti_bin_export_writes_bins_and_index_stamped_gt() {
         .collect();
     assert_eq!(stamps, vec![0.0, 1.0, 2.0]);
 }
+
+#[test]
+fn docs_config_md_is_up_to_date() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = keylo_line("config docs", tmp.path());
+    let committed =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/config.md"))
+            .unwrap();
+    assert!(
+        stdout(&o) == committed,
+        "docs/config.md is stale: regenerate it with `keylo config docs > docs/config.md`"
+    );
+}
