@@ -88,6 +88,20 @@ pub struct EvalArgs {
     /// Also print the result as JSON.
     #[arg(long)]
     pub json: bool,
+    /// An extra RPE over this delta (as `evo_rpe --delta`), e.g. `--delta 10 --delta-unit m`.
+    #[arg(long)]
+    pub delta: Option<f64>,
+    /// Unit of --delta.
+    #[arg(long, value_enum, default_value_t = DeltaUnit::Frames)]
+    pub delta_unit: DeltaUnit,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DeltaUnit {
+    /// Pairs `delta` frames apart.
+    Frames,
+    /// Pairs `delta` metres of reference path apart.
+    M,
 }
 
 #[derive(Debug, Subcommand)]

@@ -2,16 +2,24 @@
 
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
+use keylo::eval::associate::{associate_labeled, AssociateOptions};
+use keylo::eval::rpe::{rpe, Delta, RpeOptions};
+use keylo::eval::{evaluate, io, EvalOptions};
 
-use crate::args::EvalArgs;
+use crate::args::{DeltaUnit, EvalArgs};
 
 pub fn run(args: EvalArgs) -> Result<ExitCode> {
-    let est = keylo::eval::io::read_trajectory(&args.est)
-        .with_context(|| format!("--est {}", args.est.display()))?;
-    let gt = keylo::eval::io::read_trajectory(&args.gt)
-        .with_context(|| format!("--gt {}", args.gt.display()))?;
-    let acc = keylo::eval::evaluate(&est, &gt, &keylo::eval::EvalOptions::default())?;
+    let est =
+        io::read_trajectory(&args.est).with_context(|| format!("--est {}", args.est.display()))?;
+    let gt =
+        io::read_trajectory(&args.gt).with_context(|| format!("--gt {}", args.gt.display()))?;
+    let opts = EvalOptions {
+        reference_label: args.gt.display().to_string(),
+        estimate_label: args.est.display().to_string(),
+        ..EvalOptions::default()
+    };
+    let acc = evaluate(&est, &gt, &opts)?;
     println!("{} vs {}", args.est.display(), args.gt.display());
     println!(
         "  associated poses             {:>12}",
@@ -19,6 +27,10 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     );
     println!("  ATE RMSE (m)                 {:>12.4}", acc.ate_rmse_m);
     println!("  ATE mean (m)                 {:>12.4}", acc.ate_mean_m);
+    println!(
+        "  APE rot RMSE (deg)           {:>12.4}",
+        acc.ate_rot_rmse_deg
+    );
     println!(
         "  RPE trans RMSE (m/frame)     {:>12.4}",
         acc.rpe_trans_rmse_m
@@ -30,8 +42,48 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     if let Some(d) = acc.drift_pct {
         println!("  drift (%)                    {d:>12.3}");
     }
+    if let Some(delta) = args.delta {
+        print_delta_rpe(&args, &opts, delta, &est, &gt)?;
+    }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&acc)?);
     }
     Ok(ExitCode::SUCCESS)
+}
+
+fn print_delta_rpe(
+    args: &EvalArgs,
+    opts: &EvalOptions,
+    delta: f64,
+    est: &keylo::Trajectory,
+    gt: &keylo::Trajectory,
+) -> Result<()> {
+    let delta = match args.delta_unit {
+        DeltaUnit::Frames if delta >= 1.0 && delta.fract() == 0.0 => Delta::Frames(delta as usize),
+        DeltaUnit::Frames => bail!("--delta {delta}: a frame delta must be a whole number >= 1"),
+        DeltaUnit::M => Delta::Meters(delta),
+    };
+    let pairs = associate_labeled(
+        gt,
+        &opts.reference_label,
+        est,
+        &opts.estimate_label,
+        &AssociateOptions::default(),
+    )?;
+    let r = rpe(
+        &pairs,
+        &RpeOptions {
+            delta,
+            ..RpeOptions::default()
+        },
+    )?;
+    println!(
+        "  RPE trans RMSE over {delta} (m)  {:>8.4}  ({} pairs)",
+        r.translation.rmse, r.translation.n
+    );
+    println!(
+        "  RPE rot RMSE over {delta} (deg)  {:>8.4}",
+        r.rotation_deg.rmse
+    );
+    Ok(())
 }

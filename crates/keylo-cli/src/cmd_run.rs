@@ -214,8 +214,13 @@ fn add_accuracy(summary: &mut Summary, est: &Trajectory, gt: Option<Result<(Stri
         None => {}
         Some(Err(e)) => summary.accuracy_error = Some(format!("{e:#}")),
         Some(Ok((name, gt))) => {
+            let opts = keylo::eval::EvalOptions {
+                reference_label: name.clone(),
+                estimate_label: "the estimated trajectory".into(),
+                ..keylo::eval::EvalOptions::default()
+            };
             summary.ground_truth = Some(name);
-            match keylo::eval::evaluate(est, &gt, &keylo::eval::EvalOptions::default()) {
+            match keylo::eval::evaluate(est, &gt, &opts) {
                 Ok(a) => summary.accuracy = Some(a),
                 Err(e) => summary.accuracy_error = Some(e.to_string()),
             }

@@ -111,3 +111,32 @@ fn docs_config_md_is_up_to_date() {
         "docs/config.md is stale: regenerate it with `keylo config docs > docs/config.md`"
     );
 }
+
+#[test]
+fn eval_reports_rpe_over_a_distance() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A curved path (Umeyama alignment, like evo's, needs non-collinear positions).
+    let row = |i: usize, scale: f64| {
+        let t = i as f64 * 0.2;
+        format!(
+            "{i} {} {} {} 0 0 0 1\n",
+            scale * t * 2.0,
+            t.sin(),
+            0.1 * t.cos()
+        )
+    };
+    let gt: String = (0..50).map(|i| row(i, 1.0)).collect();
+    let est: String = (0..50).map(|i| row(i, 1.02)).collect();
+    std::fs::write(tmp.path().join("gt.tum"), gt).unwrap();
+    std::fs::write(tmp.path().join("est.tum"), est).unwrap();
+    let o = keylo_line(
+        "eval --est est.tum --gt gt.tum --delta 10 --delta-unit m",
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("RPE trans RMSE over 10 m"), "{text}");
+    let o = keylo_line("eval --est est.tum --gt gt.tum --delta 1.5", tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("whole number"), "{}", stderr(&o));
+}
