@@ -29,7 +29,7 @@ impl RawConfig {
             source,
         })?;
         let mut raw = Self::parse(&path.display().to_string(), &text)?;
-        raw.base_dir = path.parent().map(Path::to_path_buf).unwrap();
+        raw.base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Ok(raw)
     }
 
