@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# One idempotent setup for a fresh Debian machine with Rust: system packages the keylo crates
-# need (OpenCV + clang for the `opencv` crate), the ONNX Runtime shared library for SuperPoint
-# (from the PyPI `onnxruntime` wheel; nothing is downloaded at run time), and a release build
-# of the `keylo` binary. Quick when everything is already there.
+# One idempotent setup for a fresh Debian machine with Rust: the system packages keylo's
+# keypoint front end builds against (OpenCV + clang/libclang for the `opencv` crate; installed
+# now so that every later crate finds them), the ONNX Runtime shared library for SuperPoint
+# (from the PyPI `onnxruntime` wheel into .cache/; nothing is downloaded at run time), and a
+# release build of the `keylo` binary. Quick when everything is already there.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
@@ -24,6 +25,11 @@ fi
 
 ORT_DIR="$ROOT/.cache/onnxruntime"
 ORT_VERSION="1.32.0"
+if ! ls "$ORT_DIR"/libonnxruntime.so* >/dev/null 2>&1 && ! python3 -m pip --version >/dev/null 2>&1; then
+  log "python3 -m pip is missing: installing python3-pip"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends python3-pip >/dev/null
+fi
 if ! ls "$ORT_DIR"/libonnxruntime.so* >/dev/null 2>&1; then
   log "fetching the ONNX Runtime library from the onnxruntime wheel"
   tmp="$(mktemp -d)"

@@ -5,15 +5,19 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use keylo::eval::associate::{associate_labeled, AssociateOptions};
 use keylo::eval::rpe::{rpe, Delta, RpeOptions};
-use keylo::eval::{evaluate, io, EvalOptions};
+use keylo::eval::{evaluate, EvalOptions};
 
 use crate::args::{DeltaUnit, EvalArgs};
+use crate::trajectories;
 
 pub fn run(args: EvalArgs) -> Result<ExitCode> {
-    let est =
-        io::read_trajectory(&args.est).with_context(|| format!("--est {}", args.est.display()))?;
-    let gt =
-        io::read_trajectory(&args.gt).with_context(|| format!("--gt {}", args.gt.display()))?;
+    let delta = parse_delta(&args)?;
+    let mut est =
+        trajectories::read(&args.est).with_context(|| format!("--est {}", args.est.display()))?;
+    let mut gt =
+        trajectories::read(&args.gt).with_context(|| format!("--gt {}", args.gt.display()))?;
+    trajectories::reconcile(&mut est, &mut gt)?;
+    let (est, gt) = (est.trajectory, gt.trajectory);
     let opts = EvalOptions {
         reference_label: args.gt.display().to_string(),
         estimate_label: args.est.display().to_string(),
@@ -42,8 +46,8 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     if let Some(d) = acc.drift_pct {
         println!("  drift (%)                    {d:>12.3}");
     }
-    if let Some(delta) = args.delta {
-        print_delta_rpe(&args, &opts, delta, &est, &gt)?;
+    if let Some(delta) = delta {
+        print_delta_rpe(&opts, delta, &est, &gt)?;
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&acc)?);
@@ -51,18 +55,29 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Checks `--delta` before any work is done.
+fn parse_delta(args: &EvalArgs) -> Result<Option<Delta>> {
+    let Some(delta) = args.delta else {
+        return Ok(None);
+    };
+    Ok(Some(match args.delta_unit {
+        DeltaUnit::Frames if delta >= 1.0 && delta.fract() == 0.0 && delta < 1e9 => {
+            Delta::Frames(delta as usize)
+        }
+        DeltaUnit::Frames => bail!("--delta {delta}: a frame delta must be a whole number >= 1"),
+        DeltaUnit::M if delta.is_finite() && delta > 0.0 => Delta::Meters(delta),
+        DeltaUnit::M => {
+            bail!("--delta {delta}: a distance delta must be a finite number of metres > 0")
+        }
+    }))
+}
+
 fn print_delta_rpe(
-    args: &EvalArgs,
     opts: &EvalOptions,
-    delta: f64,
+    delta: Delta,
     est: &keylo::Trajectory,
     gt: &keylo::Trajectory,
 ) -> Result<()> {
-    let delta = match args.delta_unit {
-        DeltaUnit::Frames if delta >= 1.0 && delta.fract() == 0.0 => Delta::Frames(delta as usize),
-        DeltaUnit::Frames => bail!("--delta {delta}: a frame delta must be a whole number >= 1"),
-        DeltaUnit::M => Delta::Meters(delta),
-    };
     let pairs = associate_labeled(
         gt,
         &opts.reference_label,

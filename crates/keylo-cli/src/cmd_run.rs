@@ -1,7 +1,8 @@
 //! `keylo run`: build the pipeline from a config, run every frame, write and print results.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -11,7 +12,7 @@ use keylo::{CoreError, Pipeline, Trajectory};
 
 use crate::args::RunArgs;
 use crate::report::{self, Failure, Summary, Totals};
-use crate::{configs, resources, EXIT_FRAME_FAILED};
+use crate::{configs, resources, trajectories, EXIT_FRAME_FAILED, EXIT_INTERRUPTED};
 
 pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let registry = keylo::registry();
@@ -21,6 +22,14 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         args.data.as_deref(),
         &args.sets,
     )?;
+    // A ground-truth file named by the user must be readable before any work starts.
+    let gt_given = match ground_truth_file(&args, &config) {
+        Some(path) => Some(
+            trajectories::read(&path)
+                .with_context(|| format!("ground truth {}", path.display()))?,
+        ),
+        None => None,
+    };
     let out = output_dir(&args, &config)?;
     std::fs::write(
         out.join("config.toml"),
@@ -58,11 +67,11 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         ..Summary::default()
     };
     outcome.totals.fill(&mut summary);
-    add_accuracy(
-        &mut summary,
-        &outcome.trajectory,
-        ground_truth(&args, &config, &pipeline),
-    );
+    let gt = gt_given.or_else(|| {
+        let t = pipeline.source.ground_truth()?;
+        Some(trajectories::stamped(t, "the source's ground truth"))
+    });
+    add_accuracy(&mut summary, &outcome.trajectory, gt);
     report::write_outputs(
         &out,
         &outcome.trajectory,
@@ -83,7 +92,12 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             summary.frames,
             out.display()
         );
-        return Ok(ExitCode::from(EXIT_FRAME_FAILED));
+        let code = if outcome.interrupted {
+            EXIT_INTERRUPTED
+        } else {
+            EXIT_FRAME_FAILED
+        };
+        return Ok(ExitCode::from(code));
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -94,7 +108,11 @@ struct RunState {
     totals: Totals,
     skipped: usize,
     failure: Option<Failure>,
+    interrupted: bool,
 }
+
+/// Set by Ctrl-C: the run stops after the current frame and writes what it has.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 fn process_all(
     pipeline: &mut Pipeline,
@@ -102,20 +120,32 @@ fn process_all(
     progress: &ProgressBar,
     st: &mut RunState,
 ) {
-    let mut read = 0u64;
+    if let Err(e) = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst)) {
+        tracing::warn!("Ctrl-C will not save partial results: {e}");
+    }
+    // Index of the next frame, for messages about a frame the source could not read.
+    let mut next = 0u64;
     loop {
+        if INTERRUPTED.load(Ordering::SeqCst) {
+            st.failure = Some(Failure {
+                frame: next,
+                error: "interrupted (Ctrl-C)".into(),
+            });
+            st.interrupted = true;
+            break;
+        }
         let frame = match pipeline.source.next_frame() {
             None => break,
             Some(Ok(f)) => f,
             Some(Err(e)) => {
                 st.failure = Some(Failure {
-                    frame: read,
+                    frame: next,
                     error: e.to_string(),
                 });
                 break;
             }
         };
-        read += 1;
+        next = frame.index + 1;
         let t = Instant::now();
         let result = pipeline.odometry.process(&frame);
         st.totals.odometry_seconds += t.elapsed().as_secs_f64();
@@ -180,54 +210,45 @@ fn timestamp_name(secs: u64) -> String {
     )
 }
 
-/// Ground truth: `--gt`, else `[output] gt`, else the source's own, else `DATA/gt.tum`.
-fn ground_truth(
-    args: &RunArgs,
-    config: &PipelineConfig,
-    pipeline: &Pipeline,
-) -> Option<Result<(String, Trajectory)>> {
-    let file = args.gt.clone().or_else(|| {
-        (!config.output.gt.is_empty()).then(|| config.base_dir.join(&config.output.gt))
+/// Ground-truth file: `--gt`, else `[output] gt`, else a `gt.tum` beside the data (`--data` or
+/// the source's `path`). A source with ground truth of its own (the simulator) needs none.
+fn ground_truth_file(args: &RunArgs, config: &PipelineConfig) -> Option<PathBuf> {
+    if let Some(gt) = &args.gt {
+        return Some(gt.clone());
+    }
+    if !config.output.gt.is_empty() {
+        return Some(config.base_dir.join(&config.output.gt));
+    }
+    let data = args.data.clone().or_else(|| {
+        let path = config.source.params.get("path")?.as_str()?;
+        (!path.is_empty()).then(|| config.base_dir.join(path))
+    })?;
+    Some(data.join("gt.tum")).filter(|p| p.is_file())
+}
+
+fn add_accuracy(summary: &mut Summary, est: &Trajectory, gt: Option<trajectories::Labelled>) {
+    let Some(mut gt) = gt else { return };
+    let mut ours = trajectories::stamped(est.clone(), "the estimated trajectory");
+    let result = trajectories::reconcile(&mut ours, &mut gt).and_then(|()| {
+        let opts = keylo::eval::EvalOptions {
+            reference_label: gt.label.clone(),
+            estimate_label: ours.label.clone(),
+            ..keylo::eval::EvalOptions::default()
+        };
+        Ok(keylo::eval::evaluate(
+            &ours.trajectory,
+            &gt.trajectory,
+            &opts,
+        )?)
     });
-    if let Some(path) = file {
-        return Some(read_gt(&path));
-    }
-    if let Some(gt) = pipeline.source.ground_truth() {
-        return Some(Ok(("source (simulator)".into(), gt)));
-    }
-    let beside = args
-        .data
-        .as_ref()
-        .map(|d| d.join("gt.tum"))
-        .filter(|p| p.is_file())?;
-    Some(read_gt(&beside))
-}
-
-fn read_gt(path: &Path) -> Result<(String, Trajectory)> {
-    let t = keylo::eval::io::read_trajectory(path)
-        .with_context(|| format!("ground truth {}", path.display()))?;
-    Ok((path.display().to_string(), t))
-}
-
-fn add_accuracy(summary: &mut Summary, est: &Trajectory, gt: Option<Result<(String, Trajectory)>>) {
-    match gt {
-        None => {}
-        Some(Err(e)) => summary.accuracy_error = Some(format!("{e:#}")),
-        Some(Ok((name, gt))) => {
-            let opts = keylo::eval::EvalOptions {
-                reference_label: name.clone(),
-                estimate_label: "the estimated trajectory".into(),
-                ..keylo::eval::EvalOptions::default()
-            };
-            summary.ground_truth = Some(name);
-            match keylo::eval::evaluate(est, &gt, &opts) {
-                Ok(a) => summary.accuracy = Some(a),
-                Err(e) => summary.accuracy_error = Some(e.to_string()),
-            }
+    summary.ground_truth = Some(gt.label.clone());
+    match result {
+        Ok(a) => summary.accuracy = Some(a),
+        Err(e) => {
+            // Shown even with -q: the user asked for accuracy and does not get it.
+            tracing::error!("no accuracy figures: {e:#}");
+            summary.accuracy_error = Some(format!("{e:#}"));
         }
-    }
-    if let Some(e) = &summary.accuracy_error {
-        tracing::warn!("no accuracy figures: {e}");
     }
 }
 

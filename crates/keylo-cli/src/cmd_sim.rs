@@ -99,6 +99,7 @@ fn write_frames(
 fn write_bins(sim: &Simulator, args: &SimArgs, progress: &ProgressBar) -> Result<()> {
     let dir = args.out.join("velodyne");
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    keylo::io::remove_files_with_extension(&dir, "bin")?;
     for i in 0..sim.len() {
         write_kitti_bin(&dir.join(format!("{i:06}.bin")), &sim.frame(i))?;
         progress.inc(1);

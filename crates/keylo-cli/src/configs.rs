@@ -23,6 +23,12 @@ pub fn load(
         (None, Some(_)) => RawConfig::builtin(),
     };
     if let Some(data) = data {
+        if let Some(s) = sets
+            .iter()
+            .find(|s| s.trim_start().starts_with("source.kind"))
+        {
+            bail!("--set {s} conflicts with --data: --data chooses the source kind from the data");
+        }
         apply_data(registry, &mut raw, data)?;
     }
     for s in sets {
@@ -43,7 +49,11 @@ fn apply_data(registry: &Registry, raw: &mut RawConfig, data: &Path) -> Result<(
         )
     })?;
     let path = std::path::absolute(data).unwrap_or_else(|_| data.to_path_buf());
-    let mut table = toml::Table::new();
+    // Same kind as the config's source: keep its other parameters (start, max_frames, …).
+    let mut table = match raw.table.get("source").and_then(toml::Value::as_table) {
+        Some(t) if t.get("kind").and_then(toml::Value::as_str) == Some(kind) => t.clone(),
+        _ => toml::Table::new(),
+    };
     table.insert("kind".into(), toml::Value::String(kind.into()));
     table.insert(
         "path".into(),

@@ -8,6 +8,7 @@ mod cmd_sim;
 mod configs;
 mod report;
 mod resources;
+mod trajectories;
 
 use std::process::ExitCode;
 
@@ -17,11 +18,17 @@ use args::{Cli, Command};
 
 /// Exit status for a run that stopped on a bad frame (trajectory so far is written).
 pub const EXIT_FRAME_FAILED: u8 = 3;
+/// Exit status for a run stopped by Ctrl-C (its results so far are written), as shells use.
+pub const EXIT_INTERRUPTED: u8 = 130;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     init_logging(cli.verbose, cli.quiet);
     if let Some(n) = cli.threads {
+        if n == 0 || n > 1024 {
+            eprintln!("error: --threads {n}: expected 1..=1024");
+            return ExitCode::from(2);
+        }
         if let Err(e) = rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build_global()
@@ -39,10 +46,26 @@ fn main() -> ExitCode {
     match outcome {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", error_chain(&e));
             ExitCode::from(2)
         }
     }
+}
+
+/// The error and its causes joined by ": ", leaving out a cause whose text the message
+/// already holds (library errors often print their source themselves).
+fn error_chain(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let part = cause.to_string();
+        if !text.contains(&part) {
+            if !text.is_empty() {
+                text.push_str(": ");
+            }
+            text.push_str(&part);
+        }
+    }
+    text
 }
 
 fn init_logging(verbose: u8, quiet: bool) {
@@ -59,5 +82,6 @@ fn init_logging(verbose: u8, quiet: bool) {
         .with_env_filter(filter)
         .with_writer(std::io::stderr)
         .with_target(false)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .init();
 }

@@ -209,3 +209,70 @@ fn bad_trajectory_files_are_named_by_eval() {
     assert!(stderr(&o).contains("a.tum"), "{}", stderr(&o));
     no_panic(&o);
 }
+
+/// Regressions from the review of the first release.
+#[test]
+fn huge_thresholds_and_thread_counts_are_rejected_up_front() {
+    let tmp = tempfile::tempdir().unwrap();
+    for set in [
+        "registrar.max_range=1e200",
+        "registrar.initial_threshold=1e200",
+        "registrar.max_num_threads=100000",
+    ] {
+        let o = keylo_line(
+            &format!("run -q --set source.frames=2 --set {set}"),
+            tmp.path(),
+        );
+        assert_eq!(o.status.code(), Some(2), "{set}: {}", stderr(&o));
+        no_panic(&o);
+    }
+    let o = keylo_line("run -q --threads 100000", tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn ground_truth_and_data_problems_are_found_before_running() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 6);
+    let d = data.to_str().unwrap();
+    let o = keylo_line(
+        &format!("run -q --data {d} --gt /nonexistent.tum"),
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("/nonexistent.tum"), "{}", stderr(&o));
+    let o = keylo_line(
+        &format!("run -q --data {d} --set source.start=50"),
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("source.start"), "{}", stderr(&o));
+    let o = keylo_line(
+        &format!("run -q --data {d} --set source.kind=sim"),
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("conflicts with --data"),
+        "{}",
+        stderr(&o)
+    );
+    // Re-simulating into the same folder with fewer frames leaves a consistent folder.
+    small_sim(&data, 3);
+    let o = keylo_line(&format!("run -q --data {d} --out {d}/run"), tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A KITTI estimate (no stamps) pairs one for one with an equally long TUM reference only.
+    let o = keylo_line(
+        &format!("eval --est {d}/run/trajectory.kitti --gt {d}/gt.tum"),
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    small_sim(&data, 5);
+    let o = keylo_line(
+        &format!("eval --est {d}/run/trajectory.kitti --gt {d}/gt.tum"),
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("no time stamps"), "{}", stderr(&o));
+}

@@ -94,7 +94,15 @@ pub fn parse_params<C: DeserializeOwned>(params: &toml::Table) -> Result<C, (Str
     serde_path_to_error::deserialize::<_, C>(value).map_err(|e| {
         let path = e.path().to_string();
         let path = if path == "." { String::new() } else { path };
-        (path, e.into_inner().to_string())
+        // toml appends its own "in `key`" line; the path is reported separately.
+        let message = e.into_inner().to_string();
+        let first = message
+            .lines()
+            .next()
+            .unwrap_or_default()
+            .trim()
+            .to_string();
+        (path, first)
     })
 }
 

@@ -10,6 +10,17 @@ pub mod kitti_bin;
 
 pub use error::IoError;
 
+/// Removes the files of `dir` whose extension is `ext` (frames of an earlier export).
+pub fn remove_files_with_extension(dir: &std::path::Path, ext: &str) -> Result<(), IoError> {
+    let entries = std::fs::read_dir(dir).map_err(|e| IoError::io(dir, e))?;
+    for path in entries.filter_map(Result::ok).map(|e| e.path()) {
+        if path.is_file() && path.extension().is_some_and(|x| x == ext) {
+            std::fs::remove_file(&path).map_err(|e| IoError::io(&path, e))?;
+        }
+    }
+    Ok(())
+}
+
 /// Registers source kind `frames` and its `--data` probe.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.sources.add::<frames::FramesSourceConfig>(

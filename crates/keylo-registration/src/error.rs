@@ -8,7 +8,7 @@ pub enum RegistrationError {
     BadParameter {
         field: &'static str,
         value: String,
-        expected: &'static str,
+        expected: String,
     },
     /// An input cloud the registrar cannot use.
     #[error("{0}")]
@@ -33,7 +33,7 @@ impl From<RegistrationError> for CoreError {
 pub(crate) fn check(
     ok: bool,
     field: &'static str,
-    value: impl ToString,
+    value: impl std::fmt::Debug,
     expected: &'static str,
 ) -> Result<(), RegistrationError> {
     if ok {
@@ -41,8 +41,8 @@ pub(crate) fn check(
     } else {
         Err(RegistrationError::BadParameter {
             field,
-            value: value.to_string(),
-            expected,
+            value: format!("{value:?}"),
+            expected: expected.to_string(),
         })
     }
 }

@@ -2,7 +2,8 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
-/// What to do with a frame a stage rejects (empty, all-NaN, …).
+/// What to do with a frame a stage rejects (empty, all-NaN, …). A frame the source cannot
+/// read (a truncated or corrupt file) always stops the run: later frames may be unreadable too.
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
 )]
@@ -27,7 +28,8 @@ pub struct OutputConfig {
     pub kitti: bool,
     /// Ground-truth trajectory (TUM or KITTI) for accuracy figures; empty: use the source's own.
     pub gt: String,
-    /// What to do with a frame a stage rejects.
+    /// What to do with a frame a stage rejects (empty, all-NaN): `stop` or `skip`. A frame the
+    /// source cannot read always stops the run.
     pub on_bad_frame: OnBadFrame,
 }
 

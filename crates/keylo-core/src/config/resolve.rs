@@ -47,7 +47,7 @@ impl Registry {
                 return Err(invalid(
                     section.into(),
                     format!(
-                        "expected a table `[{section}]`, found a {}",
+                        "expected a table `[{section}]`, found a value of type {}",
                         other.type_str()
                     ),
                 ))
@@ -63,7 +63,10 @@ impl Registry {
             Some(other) => {
                 return Err(invalid(
                     format!("{section}.kind"),
-                    format!("expected a string, found a {}", other.type_str()),
+                    format!(
+                        "expected a string, found a value of type {}",
+                        other.type_str()
+                    ),
                 ))
             }
         };
@@ -111,7 +114,10 @@ fn resolve_output(raw: &RawConfig) -> Result<OutputConfig, ConfigError> {
             return Err(ConfigError::Invalid {
                 origin: raw.origin.clone(),
                 path: "output".into(),
-                message: format!("expected a table `[output]`, found a {}", other.type_str()),
+                message: format!(
+                    "expected a table `[output]`, found a value of type {}",
+                    other.type_str()
+                ),
             })
         }
     };

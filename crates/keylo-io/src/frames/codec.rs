@@ -22,15 +22,18 @@ use crate::IoError;
 /// File magic.
 pub const MAGIC: &[u8; 4] = b"KLF1";
 
-/// Size in bytes of a frame file.
-pub fn encoded_len(rows: usize, cols: usize) -> usize {
-    let n = rows * cols;
-    4 + 8 + 8 + 8 + 8 * cols + 16 * n + 12 * n + n
+/// Largest grid a frame file may declare (pixels), far above any real sensor.
+pub const MAX_PIXELS: usize = 1 << 26;
+
+/// Size in bytes of a frame file; `None` for a grid larger than [`MAX_PIXELS`].
+pub fn encoded_len(rows: usize, cols: usize) -> Option<usize> {
+    let n = rows.checked_mul(cols).filter(|n| *n <= MAX_PIXELS)?;
+    Some(4 + 8 + 8 + 8 + 8 * cols + 16 * n + 12 * n + n)
 }
 
 /// Serialises a frame.
 pub fn encode(frame: &LidarFrame) -> Vec<u8> {
-    let mut out = Vec::with_capacity(encoded_len(frame.rows, frame.cols));
+    let mut out = Vec::with_capacity(encoded_len(frame.rows, frame.cols).unwrap_or(0));
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&(frame.rows as u32).to_le_bytes());
     out.extend_from_slice(&(frame.cols as u32).to_le_bytes());
@@ -87,7 +90,12 @@ pub fn decode(path: &Path, bytes: &[u8], beams: &Arc<BeamGeometry>) -> Result<Li
     let mut r = Reader { bytes, at: 4 };
     let rows = u32::from_le_bytes(r.take()) as usize;
     let cols = u32::from_le_bytes(r.take()) as usize;
-    let expected = encoded_len(rows, cols);
+    let Some(expected) = encoded_len(rows, cols) else {
+        return Err(IoError::format(
+            path,
+            format!("header declares {rows}x{cols} pixels, more than the {MAX_PIXELS} allowed (corrupt)"),
+        ));
+    };
     if bytes.len() != expected {
         return Err(IoError::format(
             path,
@@ -150,7 +158,7 @@ mod tests {
     fn round_trips() {
         let f = frame();
         let bytes = encode(&f);
-        assert_eq!(bytes.len(), encoded_len(2, 3));
+        assert_eq!(Some(bytes.len()), encoded_len(2, 3));
         let g = decode(Path::new("x.klf"), &bytes, &f.beams).unwrap();
         assert_eq!(f, g);
     }

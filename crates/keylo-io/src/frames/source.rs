@@ -27,6 +27,8 @@ pub fn is_frames_dir(path: &Path) -> bool {
 /// Reads a keylo frame folder frame by frame.
 pub struct FramesSource {
     dir: PathBuf,
+    rows: usize,
+    cols: usize,
     files: Vec<PathBuf>,
     next: usize,
     beams: Arc<BeamGeometry>,
@@ -65,6 +67,17 @@ impl FramesSource {
         if files.is_empty() {
             return Err(IoError::format(&dir, "the folder holds no frame"));
         }
+        if config.start >= files.len() {
+            return Err(IoError::format(
+                &dir,
+                format!(
+                    "`source.start` = {} but the folder holds {} frames (0..{})",
+                    config.start,
+                    files.len(),
+                    files.len()
+                ),
+            ));
+        }
         let end = match config.max_frames {
             0 => files.len(),
             n => (config.start + n).min(files.len()),
@@ -75,6 +88,8 @@ impl FramesSource {
             .unwrap_or_default();
         Ok(Self {
             dir,
+            rows: manifest.rows,
+            cols: manifest.cols,
             files,
             next: 0,
             beams: Arc::new(manifest.beams),
@@ -104,9 +119,21 @@ impl ImageSource for FramesSource {
     fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>> {
         let path = self.files.get(self.next)?;
         self.next += 1;
+        let (rows, cols) = (self.rows, self.cols);
         let frame = std::fs::read(path)
             .map_err(|e| IoError::io(path, e))
-            .and_then(|bytes| codec::decode(path, &bytes, &self.beams));
+            .and_then(|bytes| codec::decode(path, &bytes, &self.beams))
+            .and_then(|f| {
+                if (f.rows, f.cols) == (rows, cols) {
+                    Ok(f)
+                } else {
+                    let msg = format!(
+                        "frame is {}x{}, the folder's manifest says {rows}x{cols}",
+                        f.rows, f.cols
+                    );
+                    Err(IoError::format(path, msg))
+                }
+            });
         Some(frame.map_err(CoreError::from))
     }
 }

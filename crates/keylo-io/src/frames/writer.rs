@@ -22,6 +22,9 @@ impl FramesWriter {
     ) -> Result<Self, IoError> {
         let frames = dir.join(FRAMES_DIR);
         std::fs::create_dir_all(&frames).map_err(|e| IoError::io(&frames, e))?;
+        // A folder written before holds frames of its own: remove them (and only them) so the
+        // new manifest and the frame files agree.
+        crate::remove_files_with_extension(&frames, "klf")?;
         Ok(Self {
             dir: dir.to_path_buf(),
             manifest: Manifest {

@@ -136,9 +136,9 @@ fn accumulate(sys: &mut System, p: &Point3<f64>, r: &nalgebra::Vector3<f64>, w: 
     sys.count += 1;
 }
 
-/// Solves `JᵀJ dx = −Jᵀr`; `None` without correspondences.
+/// Solves `JᵀJ dx = −Jᵀr`; `None` without correspondences or with a non-finite system.
 fn solve(sys: &System) -> Option<Vector6<f64>> {
-    if sys.count == 0 {
+    if sys.count == 0 || !sys.jtj.iter().chain(sys.jtr.iter()).all(|v| v.is_finite()) {
         return None;
     }
     let rhs = -sys.jtr;
@@ -146,7 +146,10 @@ fn solve(sys: &System) -> Option<Vector6<f64>> {
         return Some(chol.solve(&rhs));
     }
     // Rank-deficient (degenerate geometry): least-squares solution, as LDLT would give.
-    sys.jtj.svd(true, true).solve(&rhs, 1e-12).ok()
+    let svd = sys.jtj.try_svd(true, true, 1e-12, 200)?;
+    svd.solve(&rhs, 1e-12)
+        .ok()
+        .filter(|dx| dx.iter().all(|v| v.is_finite()))
 }
 
 #[cfg(test)]

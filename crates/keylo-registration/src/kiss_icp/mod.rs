@@ -77,12 +77,14 @@ impl KissIcpConfig {
     }
 
     fn validate(&self) -> Result<(), RegistrationError> {
-        let finite_pos = |v: f64| v.is_finite() && v > 0.0;
+        // Upper bounds keep every derived quantity (σ², kernel weights) finite.
+        let in_range = |v: f64, max: f64| v.is_finite() && v > 0.0 && v <= max;
+        let zero_or = |v: f64, max: f64| v == 0.0 || in_range(v, max);
         check(
-            finite_pos(self.max_range),
+            in_range(self.max_range, 1e4),
             "max_range",
             self.max_range,
-            "expected a finite value > 0",
+            "expected 0 < max_range <= 10000 m",
         )?;
         check(
             self.min_range.is_finite() && self.min_range >= 0.0 && self.min_range < self.max_range,
@@ -91,46 +93,52 @@ impl KissIcpConfig {
             "expected 0 <= min_range < max_range",
         )?;
         check(
-            self.voxel_size.is_finite() && self.voxel_size >= 0.0,
+            zero_or(self.voxel_size, 1e3),
             "voxel_size",
             self.voxel_size,
-            "expected >= 0 (0 = max_range/100)",
+            "expected 0 (= max_range/100) or 0 < voxel_size <= 1000 m",
         )?;
         check(
-            self.max_points_per_voxel >= 1,
+            (1..=10_000).contains(&self.max_points_per_voxel),
             "max_points_per_voxel",
             self.max_points_per_voxel,
-            "expected >= 1",
+            "expected 1..=10000",
         )?;
         check(
-            finite_pos(self.initial_threshold),
+            in_range(self.initial_threshold, 1e3),
             "initial_threshold",
             self.initial_threshold,
-            "expected a finite value > 0",
+            "expected 0 < initial_threshold <= 1000 m",
         )?;
         check(
-            self.min_motion_th.is_finite() && self.min_motion_th >= 0.0,
+            self.min_motion_th.is_finite() && (0.0..=1e3).contains(&self.min_motion_th),
             "min_motion_th",
             self.min_motion_th,
-            "expected >= 0",
+            "expected 0 <= min_motion_th <= 1000 m",
         )?;
         check(
-            self.fixed_threshold.is_finite() && self.fixed_threshold >= 0.0,
+            zero_or(self.fixed_threshold, 1e3),
             "fixed_threshold",
             self.fixed_threshold,
-            "expected >= 0 (0 = adaptive)",
+            "expected 0 (= adaptive) or 0 < fixed_threshold <= 1000 m",
         )?;
         check(
-            self.max_num_iterations >= 1,
+            (1..=100_000).contains(&self.max_num_iterations),
             "max_num_iterations",
             self.max_num_iterations,
-            "expected >= 1",
+            "expected 1..=100000",
         )?;
         check(
-            finite_pos(self.convergence_criterion),
+            in_range(self.convergence_criterion, 1.0),
             "convergence_criterion",
             self.convergence_criterion,
-            "expected a finite value > 0",
+            "expected 0 < convergence_criterion <= 1",
+        )?;
+        check(
+            self.max_num_threads <= 1024,
+            "max_num_threads",
+            self.max_num_threads,
+            "expected 0 (automatic) ..= 1024",
         )?;
         check(
             self.max_motion_per_frame.is_finite() && self.max_motion_per_frame >= 0.0,
@@ -163,7 +171,16 @@ impl KissIcp {
         let voxel_size = config.effective_voxel_size();
         let pool = match config.max_num_threads {
             0 => None,
-            n => rayon::ThreadPoolBuilder::new().num_threads(n).build().ok(),
+            n => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .map_err(|e| RegistrationError::BadParameter {
+                        field: "max_num_threads",
+                        value: n.to_string(),
+                        expected: format!("a thread count the system allows ({e})"),
+                    })?,
+            ),
         };
         Ok(Self {
             map: VoxelHashMap::new(voxel_size, config.max_range, config.max_points_per_voxel),
