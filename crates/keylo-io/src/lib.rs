@@ -7,6 +7,7 @@
 mod error;
 pub mod frames;
 pub mod kitti_bin;
+pub mod ouster;
 
 pub use error::IoError;
 
