@@ -3,7 +3,13 @@
 //! `data_format`) and the nested layout of firmware 3.x (`beam_intrinsics`,
 //! `lidar_data_format`, `config_params`, …). Packet decoding and frame assembly follow.
 
+mod batcher;
 mod json;
 mod metadata;
+mod packet;
+mod pcap;
 
+pub use batcher::{BatchedFrame, Batcher};
 pub use metadata::{OusterMetadata, UdpProfile};
+pub use packet::{PacketFormat, RawFrame};
+pub use pcap::{Datagram, UdpReader};

@@ -1,0 +1,166 @@
+//! Lidar packet layouts (profiles LEGACY, RNG19_RFL8_SIG16_NIR16, RNG15_RFL8_NIR8) and
+//! decoding of their columns into a staggered frame. Byte layouts follow Ouster's sensor
+//! documentation; all fields are little-endian.
+
+use super::metadata::{OusterMetadata, UdpProfile};
+
+/// The staggered channels of one frame as the packets carry them (row-major, `rows × cols`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawFrame {
+    pub frame_id: u32,
+    pub rows: usize,
+    pub cols: usize,
+    /// Range, millimetres (0 = no return).
+    pub range_mm: Vec<u32>,
+    pub signal: Vec<u32>,
+    pub reflectivity: Vec<u32>,
+    pub near_ir: Vec<u32>,
+    /// Column time stamps, nanoseconds (0 when the column was not received).
+    pub column_ns: Vec<u64>,
+    /// Whether a valid column arrived.
+    pub column_valid: Vec<bool>,
+}
+
+impl RawFrame {
+    fn new(frame_id: u32, rows: usize, cols: usize) -> Self {
+        let n = rows * cols;
+        Self {
+            frame_id,
+            rows,
+            cols,
+            range_mm: vec![0; n],
+            signal: vec![0; n],
+            reflectivity: vec![0; n],
+            near_ir: vec![0; n],
+            column_ns: vec![0; cols],
+            column_valid: vec![false; cols],
+        }
+    }
+}
+
+/// Where the fields of one packet profile are.
+#[derive(Debug, Clone)]
+pub struct PacketFormat {
+    profile: UdpProfile,
+    rows: usize,
+    cols: usize,
+    columns_per_packet: usize,
+    header: usize,
+    column_header: usize,
+    pixel: usize,
+    column_footer: usize,
+    footer: usize,
+}
+
+impl PacketFormat {
+    /// The layout for `meta`'s profile; an error names an unsupported profile.
+    pub fn new(meta: &OusterMetadata) -> Result<Self, String> {
+        let (header, column_header, pixel, column_footer, footer) = match meta.udp_profile_lidar {
+            UdpProfile::Legacy => (0, 16, 12, 4, 0),
+            UdpProfile::Rng19Rfl8Sig16Nir16 => (32, 12, 12, 0, 32),
+            UdpProfile::Rng15Rfl8Nir8 => (32, 12, 4, 0, 32),
+            ref other => {
+                return Err(format!(
+                    "UDP lidar profile {} is not supported yet (supported: LEGACY, \
+                     RNG19_RFL8_SIG16_NIR16, RNG15_RFL8_NIR8)",
+                    other.name()
+                ))
+            }
+        };
+        Ok(Self {
+            profile: meta.udp_profile_lidar.clone(),
+            rows: meta.pixels_per_column,
+            cols: meta.columns_per_frame,
+            columns_per_packet: meta.columns_per_packet,
+            header,
+            column_header,
+            pixel,
+            column_footer,
+            footer,
+        })
+    }
+
+    fn column_size(&self) -> usize {
+        self.column_header + self.rows * self.pixel + self.column_footer
+    }
+
+    /// Bytes of one lidar packet (other sizes are IMU or foreign packets).
+    pub fn packet_size(&self) -> usize {
+        self.header + self.columns_per_packet * self.column_size() + self.footer
+    }
+
+    /// An empty frame of this format.
+    pub fn new_frame(&self, frame_id: u32) -> RawFrame {
+        RawFrame::new(frame_id, self.rows, self.cols)
+    }
+
+    /// The frame id of a lidar packet (of the packet size).
+    pub fn frame_id(&self, p: &[u8]) -> u32 {
+        match self.profile {
+            UdpProfile::Legacy => u32::from(le16(p, 10)),
+            _ => u32::from(le16(p, 2)),
+        }
+    }
+
+    /// Copies the packet's columns into `frame`. Columns with an invalid status or a
+    /// measurement id outside the frame are skipped, as ouster-sdk does.
+    pub fn decode_into(&self, p: &[u8], frame: &mut RawFrame) {
+        for k in 0..self.columns_per_packet {
+            let col = &p[self.header + k * self.column_size()..][..self.column_size()];
+            let m = usize::from(le16(col, 8));
+            let valid = match self.profile {
+                UdpProfile::Legacy => le32(col, self.column_size() - 4) == 0xFFFF_FFFF,
+                _ => le16(col, 10) & 1 == 1,
+            };
+            if !valid || m >= self.cols {
+                continue;
+            }
+            frame.column_ns[m] = le64(col, 0);
+            frame.column_valid[m] = true;
+            for r in 0..self.rows {
+                let px = &col[self.column_header + r * self.pixel..][..self.pixel];
+                self.decode_pixel(px, r * self.cols + m, frame);
+            }
+        }
+    }
+
+    #[inline]
+    fn decode_pixel(&self, px: &[u8], i: usize, f: &mut RawFrame) {
+        match self.profile {
+            UdpProfile::Legacy => {
+                f.range_mm[i] = le32(px, 0) & 0x000F_FFFF;
+                // 16 bits on the wire, of which ouster-sdk reads the low 8 (calibrated 0..255).
+                f.reflectivity[i] = u32::from(px[4]);
+                f.signal[i] = u32::from(le16(px, 6));
+                f.near_ir[i] = u32::from(le16(px, 8));
+            }
+            UdpProfile::Rng19Rfl8Sig16Nir16 => {
+                f.range_mm[i] = le32(px, 0) & 0x0007_FFFF;
+                // 16 bits on the wire, of which ouster-sdk reads the low 8 (calibrated 0..255).
+                f.reflectivity[i] = u32::from(px[4]);
+                f.signal[i] = u32::from(le16(px, 6));
+                f.near_ir[i] = u32::from(le16(px, 8));
+            }
+            UdpProfile::Rng15Rfl8Nir8 => {
+                f.range_mm[i] = u32::from(le16(px, 0) & 0x7FFF) * 8;
+                f.reflectivity[i] = u32::from(px[2]);
+                f.near_ir[i] = u32::from(px[3]);
+            }
+            _ => {}
+        }
+    }
+}
+
+fn le16(b: &[u8], at: usize) -> u16 {
+    u16::from_le_bytes([b[at], b[at + 1]])
+}
+
+fn le32(b: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
+}
+
+fn le64(b: &[u8], at: usize) -> u64 {
+    let mut a = [0u8; 8];
+    a.copy_from_slice(&b[at..at + 8]);
+    u64::from_le_bytes(a)
+}

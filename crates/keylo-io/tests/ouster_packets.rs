@@ -1,0 +1,88 @@
+//! Decoded (staggered) channels of the Ouster sample captures against ouster-sdk 1.0.1's
+//! per-frame sums (`tests/fixtures/ouster/reference_stats_ouster_sdk.json`).
+
+use std::path::{Path, PathBuf};
+
+use keylo_io::ouster::{Batcher, OusterMetadata};
+use serde_json::Value;
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/ouster")
+}
+
+fn check_file(pcap: &str) {
+    let golden: Value = serde_json::from_str(
+        &std::fs::read_to_string(fixtures().join("reference_stats_ouster_sdk.json")).unwrap(),
+    )
+    .unwrap();
+    let g = &golden["files"][pcap];
+    let meta = OusterMetadata::read(&fixtures().join(g["metadata"].as_str().unwrap())).unwrap();
+    let mut batcher = Batcher::open(&fixtures().join(pcap), &meta).unwrap();
+    let mut frames = Vec::new();
+    while let Some(f) = batcher.next_frame() {
+        frames.push(f.unwrap());
+    }
+    let expected = g["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), expected.len(), "{pcap}: frame count");
+    for (b, e) in frames.iter().zip(expected) {
+        let f = &b.frame;
+        let sum = |v: &[u32]| v.iter().map(|x| u64::from(*x)).sum::<u64>();
+        let ctx = format!("{pcap} frame {}", f.frame_id);
+        assert_eq!(
+            u64::from(f.frame_id),
+            e["frame_id"].as_u64().unwrap(),
+            "{ctx}"
+        );
+        assert_eq!(
+            b.complete,
+            e["complete"].as_bool().unwrap(),
+            "{ctx}: complete"
+        );
+        let valid = f.range_mm.iter().filter(|r| **r != 0).count() as u64;
+        assert_eq!(
+            valid,
+            e["valid_range_px"].as_u64().unwrap(),
+            "{ctx}: valid pixels"
+        );
+        assert_eq!(
+            sum(&f.range_mm),
+            e["sum_range_mm"].as_u64().unwrap(),
+            "{ctx}: range"
+        );
+        assert_eq!(
+            sum(&f.signal),
+            e["sum_signal"].as_u64().unwrap(),
+            "{ctx}: signal"
+        );
+        assert_eq!(
+            sum(&f.reflectivity),
+            e["sum_reflectivity"].as_u64().unwrap(),
+            "{ctx}: reflectivity"
+        );
+        assert_eq!(
+            sum(&f.near_ir),
+            e["sum_near_ir"].as_u64().unwrap(),
+            "{ctx}: near-IR"
+        );
+        let first = f.column_valid.iter().position(|v| *v).unwrap() as u64;
+        let last = f.column_valid.iter().rposition(|v| *v).unwrap() as u64;
+        assert_eq!(
+            (first, last),
+            (
+                e["first_valid_column"].as_u64().unwrap(),
+                e["last_valid_column"].as_u64().unwrap()
+            ),
+            "{ctx}: columns"
+        );
+    }
+}
+
+#[test]
+fn rng19_profile_matches_ouster_sdk() {
+    check_file("OS-0-128_v3.0.1_1024x10_from_osf.pcap");
+}
+
+#[test]
+fn legacy_profile_matches_ouster_sdk() {
+    check_file("OS-1-64_1024x10_fw20.pcap");
+}
