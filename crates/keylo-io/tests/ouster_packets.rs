@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use keylo_io::ouster::{Batcher, OusterMetadata};
+use keylo_io::ouster::{Batcher, OusterMetadata, XyzLut};
 use serde_json::Value;
 
 fn fixtures() -> PathBuf {
@@ -17,6 +17,7 @@ fn check_file(pcap: &str) {
     .unwrap();
     let g = &golden["files"][pcap];
     let meta = OusterMetadata::read(&fixtures().join(g["metadata"].as_str().unwrap())).unwrap();
+    let lut = XyzLut::new(&meta);
     let mut batcher = Batcher::open(&fixtures().join(pcap), &meta).unwrap();
     let mut frames = Vec::new();
     while let Some(f) = batcher.next_frame() {
@@ -64,6 +65,30 @@ fn check_file(pcap: &str) {
             e["sum_near_ir"].as_u64().unwrap(),
             "{ctx}: near-IR"
         );
+        let mut xyz = [0.0f64; 3];
+        for r in 0..f.rows {
+            for c in 0..f.cols {
+                if let Some(p) = lut.point(r, c, f.range_mm[r * f.cols + c]) {
+                    (0..3).for_each(|k| xyz[k] += p[k]);
+                }
+            }
+        }
+        let expected_xyz: Vec<f64> = e["sum_xyz_valid_m"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        for k in 0..3 {
+            // A sum over ~10⁵ points: 1e-9 relative is far below 1 mm per point.
+            let tol = 1e-9 * expected_xyz[k].abs().max(1.0);
+            assert!(
+                (xyz[k] - expected_xyz[k]).abs() < tol,
+                "{ctx}: xyz[{k}] {} vs {}",
+                xyz[k],
+                expected_xyz[k]
+            );
+        }
         let first = f.column_valid.iter().position(|v| *v).unwrap() as u64;
         let last = f.column_valid.iter().rposition(|v| *v).unwrap() as u64;
         assert_eq!(

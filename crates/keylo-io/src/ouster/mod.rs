@@ -8,8 +8,10 @@ mod json;
 mod metadata;
 mod packet;
 mod pcap;
+mod xyz;
 
 pub use batcher::{BatchedFrame, Batcher};
 pub use metadata::{OusterMetadata, UdpProfile};
 pub use packet::{PacketFormat, RawFrame};
 pub use pcap::{Datagram, UdpReader};
+pub use xyz::XyzLut;
