@@ -110,12 +110,11 @@ fn chunk_system(chunk: &[Point3<f64>], map: &VoxelHashMap, s: &IcpSettings) -> S
     let mut sys = System::zero();
     let kappa2 = s.kernel * s.kernel;
     for p in chunk {
-        let Some((q, d)) = map.closest_neighbour(p) else {
+        // Voxels that cannot hold a point closer than the threshold are not searched; the
+        // correspondences are the ones upstream's full search followed by the threshold gives.
+        let Some((q, _)) = map.closest_neighbour_within(p, s.max_distance) else {
             continue;
         };
-        if d >= s.max_distance {
-            continue;
-        }
         let r = p - q;
         let w = kappa2 / (s.kernel + r.norm_squared()).powi(2);
         accumulate(&mut sys, p, &r, w);
