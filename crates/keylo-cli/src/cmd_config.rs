@@ -2,7 +2,7 @@ use std::fmt::Write;
 use std::process::ExitCode;
 
 use anyhow::Result;
-use keylo::config::{render_resolved, OutputConfig, STAGE_DEFAULT_KINDS};
+use keylo::config::{allowed_values, render_resolved, OutputConfig, STAGE_DEFAULT_KINDS};
 use keylo::Registry;
 use serde_json::Value;
 
@@ -68,36 +68,6 @@ fn reference(registry: &Registry) -> String {
     out
 }
 
-/// The allowed values of an enum-typed field (`enum` or `oneOf` of `const`s, possibly behind
-/// a `$ref`), as "`a`, `b`".
-fn allowed_values(field: &Value, root: &Value) -> String {
-    let target = field
-        .get("$ref")
-        .and_then(Value::as_str)
-        .and_then(|r| r.strip_prefix("#/$defs/"))
-        .and_then(|name| root.get("$defs").and_then(|d| d.get(name)))
-        .unwrap_or(field);
-    let mut values: Vec<String> = Vec::new();
-    if let Some(list) = target.get("enum").and_then(Value::as_array) {
-        values.extend(
-            list.iter()
-                .filter_map(Value::as_str)
-                .map(|v| format!("`{v}`")),
-        );
-    }
-    if let Some(list) = target.get("oneOf").and_then(Value::as_array) {
-        for v in list {
-            let c = v
-                .get("const")
-                .or_else(|| v.get("enum").and_then(|e| e.get(0)));
-            if let Some(c) = c.and_then(Value::as_str) {
-                values.push(format!("`{c}`"));
-            }
-        }
-    }
-    values.join(", ")
-}
-
 fn params_table(out: &mut String, schema: &Value, defaults: &toml::Table) {
     if defaults.is_empty() {
         out.push_str("No parameters.\n");
@@ -106,18 +76,20 @@ fn params_table(out: &mut String, schema: &Value, defaults: &toml::Table) {
     out.push_str("| key | default | meaning |\n|---|---|---|\n");
     let props = schema.get("properties");
     for (key, value) in defaults {
-        let doc = props
-            .and_then(|p| p.get(key))
-            .and_then(|f| f.get("description"))
+        let field = props.and_then(|p| p.get(key)).unwrap_or(&Value::Null);
+        let doc = field
+            .get("description")
             .and_then(Value::as_str)
             .unwrap_or("")
             .replace('\n', " ");
-        let field = props.and_then(|p| p.get(key)).unwrap_or(&Value::Null);
-        let allowed = allowed_values(field, schema);
+        let allowed: Vec<String> = allowed_values(field, schema)
+            .iter()
+            .map(|v| format!("`{v}`"))
+            .collect();
         let doc = if allowed.is_empty() {
             doc
         } else {
-            format!("{doc} Allowed: {allowed}.")
+            format!("{doc} Allowed: {}.", allowed.join(", "))
         };
         let shown = match value {
             toml::Value::Table(_) => "(table)".to_string(),

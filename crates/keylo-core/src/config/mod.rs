@@ -11,7 +11,7 @@ mod resolve;
 
 pub use output::{OnBadFrame, OutputConfig};
 pub use raw::RawConfig;
-pub use render::render_resolved;
+pub use render::{allowed_values, render_resolved, resolve_ref};
 
 use std::path::PathBuf;
 

@@ -27,7 +27,7 @@ pub fn render_resolved(config: &PipelineConfig, registry: &Registry) -> String {
 }
 
 fn write_table(out: &mut String, path: &str, table: &toml::Table, schema: &Value, root: &Value) {
-    let props = deref(schema, root).get("properties");
+    let props = resolve_ref(schema, root).get("properties");
     let mut nested = Vec::new();
     for (key, value) in table {
         let field = props.and_then(|p| p.get(key)).unwrap_or(&Value::Null);
@@ -52,8 +52,9 @@ fn write_table(out: &mut String, path: &str, table: &toml::Table, schema: &Value
     }
 }
 
-/// Follows a `$ref` (possibly behind `allOf`) to its definition in `$defs`.
-fn deref<'a>(schema: &'a Value, root: &'a Value) -> &'a Value {
+/// Follows a `$ref` (possibly behind `allOf`) of a JSON-schema node to its definition in the
+/// root's `$defs`; a node without one is returned as is.
+pub fn resolve_ref<'a>(schema: &'a Value, root: &'a Value) -> &'a Value {
     let reference = schema.get("$ref").or_else(|| {
         schema
             .get("allOf")
@@ -67,4 +68,23 @@ fn deref<'a>(schema: &'a Value, root: &'a Value) -> &'a Value {
             .unwrap_or(schema),
         None => schema,
     }
+}
+
+/// The allowed values of an enum-typed schema field (`enum`, or `oneOf` of `const`s, possibly
+/// behind a `$ref`); empty for other fields.
+pub fn allowed_values(field: &Value, root: &Value) -> Vec<String> {
+    let target = resolve_ref(field, root);
+    let mut values: Vec<String> = Vec::new();
+    if let Some(list) = target.get("enum").and_then(Value::as_array) {
+        values.extend(list.iter().filter_map(Value::as_str).map(str::to_string));
+    }
+    if let Some(list) = target.get("oneOf").and_then(Value::as_array) {
+        for v in list {
+            let c = v
+                .get("const")
+                .or_else(|| v.get("enum").and_then(|e| e.get(0)));
+            values.extend(c.and_then(Value::as_str).map(str::to_string));
+        }
+    }
+    values
 }
