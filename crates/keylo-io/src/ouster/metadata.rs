@@ -131,9 +131,6 @@ impl OusterMetadata {
             .unwrap_or_default()
             .to_string();
         let altitude = beams.f64s("beam_altitude_angles")?;
-        let origin = beams
-            .opt_f64("lidar_origin_to_beam_origin_mm")?
-            .unwrap_or(DEFAULT_ORIGIN_TO_BEAM_MM);
         let info = root.child("sensor_info");
         let text = |key: &str| -> Result<String, IoError> {
             Ok(info
@@ -152,16 +149,7 @@ impl OusterMetadata {
         let mut meta = Self::from_format(&format, &lidar_mode, altitude.len())?;
         meta.prod_line = text("prod_line")?;
         meta.fw_rev = text("build_rev")?;
-        meta.beam_azimuth_angles = beams.f64s("beam_azimuth_angles")?;
-        meta.beam_altitude_angles = altitude;
-        meta.lidar_origin_to_beam_origin_mm = origin;
-        meta.beam_to_lidar_transform = beam_to_lidar(beams, origin)?;
-        meta.lidar_to_sensor_transform = matrix(
-            lidar_to_sensor
-                .as_deref()
-                .unwrap_or(&DEFAULT_LIDAR_TO_SENSOR),
-        );
-        Ok(meta)
+        meta.with_beams(beams, altitude, lidar_to_sensor)
     }
 
     /// Firmware ≤ 2.x layout: flat keys, `data_format` optional.
@@ -172,22 +160,33 @@ impl OusterMetadata {
             Some(format) => Self::from_format(&format, &lidar_mode, altitude.len())?,
             None => Self::default_format(root, &lidar_mode, altitude.len())?,
         };
-        let origin = root
-            .opt_f64("lidar_origin_to_beam_origin_mm")?
-            .unwrap_or(DEFAULT_ORIGIN_TO_BEAM_MM);
         let lidar_to_sensor = root.opt_f64s_len("lidar_to_sensor_transform", 16)?;
         meta.prod_line = root.opt_str("prod_line")?.unwrap_or_default().to_string();
         meta.fw_rev = root.opt_str("build_rev")?.unwrap_or_default().to_string();
-        meta.beam_azimuth_angles = root.f64s("beam_azimuth_angles")?;
-        meta.beam_altitude_angles = altitude;
-        meta.lidar_origin_to_beam_origin_mm = origin;
-        meta.beam_to_lidar_transform = beam_to_lidar(root, origin)?;
-        meta.lidar_to_sensor_transform = matrix(
+        meta.with_beams(root, altitude, lidar_to_sensor)
+    }
+
+    /// The beam intrinsics from `beams` (the nested `beam_intrinsics` object, or the root of
+    /// the legacy layout) and the lidar → sensor transform, with ouster-sdk's defaults.
+    fn with_beams(
+        mut self,
+        beams: &Node,
+        altitude: Vec<f64>,
+        lidar_to_sensor: Option<Vec<f64>>,
+    ) -> Result<Self, IoError> {
+        let origin = beams
+            .opt_f64("lidar_origin_to_beam_origin_mm")?
+            .unwrap_or(DEFAULT_ORIGIN_TO_BEAM_MM);
+        self.beam_azimuth_angles = beams.f64s("beam_azimuth_angles")?;
+        self.beam_altitude_angles = altitude;
+        self.lidar_origin_to_beam_origin_mm = origin;
+        self.beam_to_lidar_transform = beam_to_lidar(beams, origin)?;
+        self.lidar_to_sensor_transform = matrix(
             lidar_to_sensor
                 .as_deref()
                 .unwrap_or(&DEFAULT_LIDAR_TO_SENSOR),
         );
-        Ok(meta)
+        Ok(self)
     }
 
     /// The data-format fields of a `data_format` / `lidar_data_format` object.
@@ -238,21 +237,19 @@ impl OusterMetadata {
         })
     }
 
-    /// ouster-sdk's data format for files without one (LEGACY profile, nominal staggering).
+    /// ouster-sdk's data format for files without one: every `from_format` default (LEGACY
+    /// profile, nominal staggering), with the columns taken from `lidar_mode`.
     fn default_format(root: &Node, lidar_mode: &str, beams: usize) -> Result<Self, IoError> {
-        let (cols, fps) = parse_mode(lidar_mode);
-        let cols = cols.ok_or_else(|| missing(root, "lidar_mode (or data_format)"))?;
-        Ok(Self {
-            lidar_mode: lidar_mode.to_string(),
-            columns_per_frame: cols,
-            pixels_per_column: beams,
-            columns_per_packet: DEFAULT_COLUMNS_PER_PACKET,
-            column_window: (0, cols - 1),
-            pixel_shift_by_row: default_shift(cols, beams),
-            udp_profile_lidar: UdpProfile::Legacy,
-            fps: fps.unwrap_or(10),
-            ..Self::empty()
-        })
+        if parse_mode(lidar_mode).0.is_none() {
+            return Err(missing(root, "lidar_mode (or data_format)"));
+        }
+        static ABSENT: serde_json::Value = serde_json::Value::Null;
+        let format = Node {
+            file: root.file,
+            path: "data_format".into(),
+            value: &ABSENT,
+        };
+        Self::from_format(&format, lidar_mode, beams)
     }
 
     fn empty() -> Self {
