@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use keylo::eval::io::{detect_format, parse_trajectory, Format};
+use keylo::eval::io::{detect_format, parse_kitti, parse_tum, Format};
 use keylo::Trajectory;
 
 /// A trajectory with the format it was read in and a label for messages.
@@ -19,7 +19,10 @@ pub fn read(path: &Path) -> Result<Labelled> {
     let label = path.display().to_string();
     let text = std::fs::read_to_string(path).with_context(|| format!("reading {label}"))?;
     let format = detect_format(&text, &label)?;
-    let trajectory = parse_trajectory(&text, &label)?;
+    let trajectory = match format {
+        Format::Tum => parse_tum(&text, &label)?,
+        Format::Kitti => parse_kitti(&text, &label)?,
+    };
     Ok(Labelled {
         trajectory,
         format,

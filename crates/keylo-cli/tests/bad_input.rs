@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{keylo, keylo_line, small_sim, stderr};
+use common::{expect_failure, keylo, keylo_line, small_sim, stderr};
 use keylo::io::frames::codec;
 
 fn no_panic(o: &std::process::Output) {
@@ -15,8 +15,7 @@ fn no_panic(o: &std::process::Output) {
 fn missing_config_file_is_named() {
     let tmp = tempfile::tempdir().unwrap();
     let o = keylo_line("run nope.toml -q", tmp.path());
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("nope.toml"), "{}", stderr(&o));
+    expect_failure(&o, 2, "nope.toml");
     no_panic(&o);
 }
 
@@ -82,8 +81,7 @@ fn bad_parameter_values_are_rejected_at_build_time() {
         "run --set registrar.max_range=-1 --set source.frames=2 -q",
         tmp.path(),
     );
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("max_range"), "{}", stderr(&o));
+    expect_failure(&o, 2, "max_range");
     no_panic(&o);
 }
 
@@ -99,12 +97,7 @@ fn data_paths_that_hold_no_frames_are_errors() {
         &["run", "--data", empty.to_str().unwrap(), "-q"],
         tmp.path(),
     );
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        stderr(&o).contains("no source recognises"),
-        "{}",
-        stderr(&o)
-    );
+    expect_failure(&o, 2, "no source recognises");
     // A manifest that promises frames the folder does not hold.
     small_sim(&empty, 2);
     std::fs::remove_file(empty.join("frames/000001.klf")).unwrap();
@@ -112,8 +105,7 @@ fn data_paths_that_hold_no_frames_are_errors() {
         &["run", "--data", empty.to_str().unwrap(), "-q"],
         tmp.path(),
     );
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("keylo-frames.json"), "{}", stderr(&o));
+    expect_failure(&o, 2, "keylo-frames.json");
     no_panic(&o);
 }
 
@@ -189,12 +181,8 @@ fn a_truncated_frame_file_is_named_and_earlier_frames_kept() {
         ],
         tmp.path(),
     );
-    assert_eq!(o.status.code(), Some(3));
-    assert!(
-        stderr(&o).contains("000002.klf") && stderr(&o).contains("truncated"),
-        "{}",
-        stderr(&o)
-    );
+    expect_failure(&o, 3, "000002.klf");
+    expect_failure(&o, 3, "truncated");
     let tum = std::fs::read_to_string(out.join("trajectory.tum")).unwrap();
     assert_eq!(tum.lines().filter(|l| !l.starts_with('#')).count(), 2);
 }
@@ -205,8 +193,7 @@ fn bad_trajectory_files_are_named_by_eval() {
     std::fs::write(tmp.path().join("a.tum"), "0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0\n").unwrap();
     std::fs::write(tmp.path().join("b.tum"), "0 0 0 0 0 0 0 1\n").unwrap();
     let o = keylo_line("eval --est a.tum --gt b.tum", tmp.path());
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("a.tum"), "{}", stderr(&o));
+    expect_failure(&o, 2, "a.tum");
     no_panic(&o);
 }
 
@@ -240,24 +227,17 @@ fn ground_truth_and_data_problems_are_found_before_running() {
         &format!("run -q --data {d} --gt /nonexistent.tum"),
         tmp.path(),
     );
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("/nonexistent.tum"), "{}", stderr(&o));
+    expect_failure(&o, 2, "/nonexistent.tum");
     let o = keylo_line(
         &format!("run -q --data {d} --set source.start=50"),
         tmp.path(),
     );
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("source.start"), "{}", stderr(&o));
+    expect_failure(&o, 2, "source.start");
     let o = keylo_line(
         &format!("run -q --data {d} --set source.kind=sim"),
         tmp.path(),
     );
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        stderr(&o).contains("conflicts with --data"),
-        "{}",
-        stderr(&o)
-    );
+    expect_failure(&o, 2, "conflicts with --data");
     // Re-simulating into the same folder with fewer frames leaves a consistent folder.
     small_sim(&data, 3);
     let o = keylo_line(&format!("run -q --data {d} --out {d}/run"), tmp.path());
@@ -273,6 +253,5 @@ fn ground_truth_and_data_problems_are_found_before_running() {
         &format!("eval --est {d}/run/trajectory.kitti --gt {d}/gt.tum"),
         tmp.path(),
     );
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("no time stamps"), "{}", stderr(&o));
+    expect_failure(&o, 2, "no time stamps");
 }

@@ -50,3 +50,12 @@ pub fn small_sim(dir: &Path, frames: usize) {
     );
     assert!(o.status.success(), "sim failed: {}", stderr(&o));
 }
+
+/// Asserts exit status `code`, no panic, and that stderr contains `needle`.
+#[allow(dead_code)]
+pub fn expect_failure(o: &Output, code: i32, needle: &str) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "{e}");
+    assert!(!e.contains("panicked"), "panic: {e}");
+    assert!(e.contains(needle), "stderr lacks `{needle}`: {e}");
+}
