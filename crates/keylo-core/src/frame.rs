@@ -106,6 +106,25 @@ pub struct LidarFrame {
     pub valid: Vec<bool>,
     /// Beam intrinsics shared by all frames of a sequence.
     pub beams: Arc<BeamGeometry>,
+    /// For frames projected from an unorganised cloud: which source point each pixel holds
+    /// and where each source point went. `None` when the sensor delivered the grid itself.
+    pub index_map: Option<Arc<PixelIndexMap>>,
+}
+
+/// The two-way map between the pixels of a projected frame and the points of its source cloud.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct PixelIndexMap {
+    /// Per pixel (row-major), the index of the source point kept there, or [`Self::NONE`].
+    pub pixel_to_point: Vec<u32>,
+    /// Per source point, the pixel it fell into, or [`Self::NONE`] when it was dropped
+    /// (outside the field of view, not finite). Several points may share a pixel; the nearest
+    /// one is the one kept in `pixel_to_point`.
+    pub point_to_pixel: Vec<u32>,
+}
+
+impl PixelIndexMap {
+    /// Marks an empty pixel or a dropped point.
+    pub const NONE: u32 = u32::MAX;
 }
 
 impl LidarFrame {
@@ -131,6 +150,7 @@ impl LidarFrame {
             points: vec![Point3::origin(); n],
             valid: vec![false; n],
             beams,
+            index_map: None,
         }
     }
 

@@ -19,7 +19,7 @@ pub mod trajectory;
 pub use cloud::PointCloud;
 pub use error::{ConfigError, CoreError};
 pub use features::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
-pub use frame::{BeamGeometry, Channel, LidarFrame};
+pub use frame::{BeamGeometry, Channel, LidarFrame, PixelIndexMap};
 pub use image::Image;
 pub use pipeline::{FrameResult, Odometry, Pipeline, StageTimings};
 pub use registry::{BuildContext, Registry};

@@ -4,6 +4,7 @@
 //!   written by `keylo sim` and read back as source kind `frames`.
 //! - [`kitti_bin`]: plain KITTI-style `.bin` frames (x y z intensity, float32) for other tools.
 
+pub mod cloud;
 mod error;
 pub mod frames;
 pub mod kitti_bin;

@@ -129,6 +129,7 @@ pub fn decode(path: &Path, bytes: &[u8], beams: &Arc<BeamGeometry>) -> Result<Li
         points,
         valid,
         beams: Arc::clone(beams),
+        index_map: None,
     })
 }
 

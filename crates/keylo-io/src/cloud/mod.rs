@@ -1,0 +1,11 @@
+//! Point clouds as files and messages hold them ([`RawCloud`]), and their conversion to the
+//! organised [`keylo_core::LidarFrame`] every stage works on: organised clouds map pixel for
+//! pixel ([`organised`]), unorganised ones are projected onto a spherical grid
+//! ([`projection`]).
+
+pub mod organised;
+pub mod projection;
+mod raw;
+
+pub use projection::{ProjectionConfig, Projector, RowSource};
+pub use raw::RawCloud;

@@ -1,0 +1,458 @@
+//! Spherical projection of unorganised clouds onto a `rows × cols` grid.
+//!
+//! The column is the azimuth, clockwise seen from above with column 0 on the +x axis (the
+//! layout of Ouster's destaggered images). The row is the point's beam: its ring index when
+//! the cloud has one, else its elevation binned against a beam table or an even split of the
+//! vertical field of view. When several points fall into one pixel the nearest is kept.
+//! The frame's [`PixelIndexMap`] records both directions of the mapping.
+
+use std::f64::consts::TAU;
+use std::sync::Arc;
+
+use keylo_core::{BeamGeometry, LidarFrame, PixelIndexMap};
+use nalgebra::Point3;
+use serde::{Deserialize, Serialize};
+
+use super::{organised::column_times, RawCloud};
+
+/// Where a point's row comes from.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum RowSource {
+    /// The ring field when the cloud has one, else the elevation.
+    #[default]
+    Auto,
+    /// The ring field (an error when the cloud has none).
+    Ring,
+    /// The elevation, binned against `altitudes_deg` or the field of view.
+    Elevation,
+}
+
+/// Which beam ring 0 is.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum RingOrder {
+    /// Decided from the first cloud: the ring whose points are higher is the top.
+    #[default]
+    Auto,
+    /// Ring 0 is the top beam (Ouster).
+    TopFirst,
+    /// Ring 0 is the bottom beam (Velodyne).
+    BottomFirst,
+}
+
+/// `[source.projection]`: how unorganised clouds become images.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct ProjectionConfig {
+    /// Image rows (beams). Ignored when `altitudes_deg` is given (its length is used).
+    pub rows: usize,
+    /// Image columns over one revolution.
+    pub cols: usize,
+    /// How a point's row is chosen: `auto` (ring when present, else elevation), `ring`, or
+    /// `elevation`.
+    pub row_from: RowSource,
+    /// Beam table: the elevation of every beam, degrees, in any order. A point goes to the
+    /// beam of nearest elevation. Empty: rows split `fov_down_deg..fov_up_deg` evenly.
+    pub altitudes_deg: Vec<f64>,
+    /// Elevation of the top row, degrees (used without a beam table).
+    pub fov_up_deg: f64,
+    /// Elevation of the bottom row, degrees (used without a beam table).
+    pub fov_down_deg: f64,
+    /// Whether ring 0 is the top beam (`top-first`, Ouster), the bottom beam
+    /// (`bottom-first`, Velodyne), or decided from the data (`auto`).
+    pub ring_order: RingOrder,
+    /// Revolutions per second. When a cloud has no per-point time, columns are spread over
+    /// one revolution by azimuth; 0 gives every column the cloud's time (no deskew).
+    pub frame_rate_hz: f64,
+}
+
+impl Default for ProjectionConfig {
+    /// KITTI's HDL-64E as RangeNet++ projects it: 64×1024, +3° to −25°.
+    fn default() -> Self {
+        Self {
+            rows: 64,
+            cols: 1024,
+            row_from: RowSource::Auto,
+            altitudes_deg: Vec::new(),
+            fov_up_deg: 3.0,
+            fov_down_deg: -25.0,
+            ring_order: RingOrder::Auto,
+            frame_rate_hz: 0.0,
+        }
+    }
+}
+
+impl ProjectionConfig {
+    /// Checks the numbers; the error names the key.
+    pub fn validate(&self) -> Result<(), String> {
+        let rows = self.effective_rows();
+        if rows == 0 || rows > 4096 {
+            return Err(format!("projection.rows = {rows}; expected 1..=4096"));
+        }
+        if self.cols == 0 || self.cols > 65536 {
+            return Err(format!(
+                "projection.cols = {}; expected 1..=65536",
+                self.cols
+            ));
+        }
+        if self
+            .altitudes_deg
+            .iter()
+            .any(|a| !a.is_finite() || a.abs() > 90.0)
+        {
+            return Err("projection.altitudes_deg: every entry must be within -90..90".into());
+        }
+        let fov_ok = self.fov_up_deg.is_finite()
+            && self.fov_down_deg.is_finite()
+            && self.fov_up_deg > self.fov_down_deg
+            && self.fov_up_deg <= 90.0
+            && self.fov_down_deg >= -90.0;
+        if self.altitudes_deg.is_empty() && !fov_ok {
+            return Err(format!(
+                "projection: fov_up_deg = {} and fov_down_deg = {}; expected -90 <= down < up <= 90",
+                self.fov_up_deg, self.fov_down_deg
+            ));
+        }
+        if !(self.frame_rate_hz.is_finite() && self.frame_rate_hz >= 0.0) {
+            return Err(format!(
+                "projection.frame_rate_hz = {}; expected >= 0",
+                self.frame_rate_hz
+            ));
+        }
+        Ok(())
+    }
+
+    fn effective_rows(&self) -> usize {
+        if self.altitudes_deg.is_empty() {
+            self.rows
+        } else {
+            self.altitudes_deg.len()
+        }
+    }
+
+    /// Elevation of every row, degrees, top row first.
+    fn row_altitudes(&self) -> Vec<f64> {
+        if self.altitudes_deg.is_empty() {
+            let rows = self.rows;
+            let step = if rows > 1 {
+                (self.fov_up_deg - self.fov_down_deg) / (rows - 1) as f64
+            } else {
+                0.0
+            };
+            (0..rows)
+                .map(|r| self.fov_up_deg - r as f64 * step)
+                .collect()
+        } else {
+            let mut a = self.altitudes_deg.clone();
+            a.sort_by(|x, y| y.total_cmp(x));
+            a
+        }
+    }
+}
+
+/// Projects the clouds of one sequence (the ring order, once decided, holds for all).
+#[derive(Debug, Clone)]
+pub struct Projector {
+    config: ProjectionConfig,
+    rows: usize,
+    altitudes: Vec<f64>,
+    beams: Arc<BeamGeometry>,
+    top_first: Option<bool>,
+}
+
+impl Projector {
+    /// A projector for `config` (validated); `model` names the sensor in the frames' beams.
+    pub fn new(config: ProjectionConfig, model: &str) -> Result<Self, String> {
+        config.validate()?;
+        let altitudes = config.row_altitudes();
+        let rows = altitudes.len();
+        let beams = Arc::new(BeamGeometry {
+            model: model.to_string(),
+            altitude_deg: altitudes.clone(),
+            azimuth_deg: vec![0.0; rows],
+            origin_to_beam_mm: 0.0,
+            columns_per_frame: config.cols,
+            frame_rate_hz: config.frame_rate_hz,
+        });
+        let top_first = match config.ring_order {
+            RingOrder::Auto => None,
+            RingOrder::TopFirst => Some(true),
+            RingOrder::BottomFirst => Some(false),
+        };
+        Ok(Self {
+            config,
+            rows,
+            altitudes,
+            beams,
+            top_first,
+        })
+    }
+
+    /// The beam geometry every projected frame carries.
+    pub fn beams(&self) -> &Arc<BeamGeometry> {
+        &self.beams
+    }
+
+    /// The frame of `cloud`; the error says which field is inconsistent.
+    pub fn project(&mut self, cloud: &RawCloud, index: u64) -> Result<LidarFrame, String> {
+        cloud.check()?;
+        let rings = match (self.config.row_from, &cloud.ring) {
+            (RowSource::Ring, None) => {
+                return Err("projection.row_from = \"ring\" but the cloud has no ring field".into())
+            }
+            (RowSource::Elevation, _) | (_, None) => None,
+            (_, Some(r)) => Some(r.as_slice()),
+        };
+        if let Some(rings) = rings {
+            if let Some(bad) = rings.iter().find(|&&r| usize::from(r) >= self.rows) {
+                return Err(format!(
+                    "ring {bad} is outside the {} projection rows (set projection.rows)",
+                    self.rows
+                ));
+            }
+            if self.top_first.is_none() {
+                self.top_first = Some(ring_zero_is_top(cloud, rings));
+            }
+        }
+        let (rows, cols) = (self.rows, self.config.cols);
+        let mut f = LidarFrame::empty(index, cloud.timestamp, rows, cols, Arc::clone(&self.beams));
+        let mut map = PixelIndexMap {
+            pixel_to_point: vec![PixelIndexMap::NONE; rows * cols],
+            point_to_pixel: vec![PixelIndexMap::NONE; cloud.len()],
+        };
+        let mut time_samples = Vec::new();
+        for (i, p) in cloud.points.iter().enumerate() {
+            let v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
+            let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            if !norm.is_finite() || norm == 0.0 {
+                continue;
+            }
+            let row = match rings {
+                Some(r) => Some(self.ring_row(r[i])),
+                None => self.elevation_row((v[2] / norm).asin().to_degrees()),
+            };
+            let Some(row) = row else { continue };
+            let col = azimuth_column(v[0], v[1], cols);
+            let pixel = row * cols + col;
+            map.point_to_pixel[i] = pixel as u32;
+            if let Some(t) = cloud.time.as_ref().map(|t| t[i]) {
+                time_samples.push((col, t));
+            }
+            let range = cloud.range.as_ref().map_or(norm as f32, |r| r[i]);
+            if f.valid[pixel] && f.range[pixel] <= range {
+                continue;
+            }
+            f.valid[pixel] = true;
+            f.range[pixel] = range;
+            f.points[pixel] = Point3::new(p[0], p[1], p[2]);
+            f.signal[pixel] = channel_value(cloud.intensity.as_deref(), i);
+            f.reflectivity[pixel] = channel_value(cloud.reflectivity.as_deref(), i);
+            f.near_ir[pixel] = channel_value(cloud.near_ir.as_deref(), i);
+            map.pixel_to_point[pixel] = i as u32;
+        }
+        f.column_times = if cloud.time.is_some() {
+            column_times(cloud.timestamp, cols, time_samples.into_iter())
+        } else if self.config.frame_rate_hz > 0.0 {
+            let period = 1.0 / self.config.frame_rate_hz;
+            (0..cols)
+                .map(|c| cloud.timestamp + period * c as f64 / cols as f64)
+                .collect()
+        } else {
+            vec![cloud.timestamp; cols]
+        };
+        f.index_map = Some(Arc::new(map));
+        Ok(f)
+    }
+
+    fn ring_row(&self, ring: u16) -> usize {
+        let r = usize::from(ring);
+        if self.top_first.unwrap_or(true) {
+            r
+        } else {
+            self.rows - 1 - r
+        }
+    }
+
+    /// The row of the nearest beam; `None` beyond half a beam spacing outside the table.
+    fn elevation_row(&self, elevation_deg: f64) -> Option<usize> {
+        let a = &self.altitudes;
+        let (top, bottom) = (*a.first()?, *a.last()?);
+        let margin = if a.len() > 1 {
+            0.5 * (top - bottom) / (a.len() - 1) as f64
+        } else {
+            0.5
+        };
+        if elevation_deg > top + margin || elevation_deg < bottom - margin {
+            return None;
+        }
+        // Altitudes descend: the first beam below the point and the one above it.
+        let below = a.partition_point(|&x| x > elevation_deg);
+        let candidates = [below.checked_sub(1), Some(below).filter(|&b| b < a.len())];
+        candidates.into_iter().flatten().min_by(|&x, &y| {
+            (a[x] - elevation_deg)
+                .abs()
+                .total_cmp(&(a[y] - elevation_deg).abs())
+        })
+    }
+}
+
+fn channel_value(values: Option<&[f32]>, i: usize) -> f32 {
+    values
+        .and_then(|v| v.get(i))
+        .copied()
+        .filter(|v| v.is_finite())
+        .unwrap_or(0.0)
+}
+
+/// Column of azimuth `atan2(y, x)`: clockwise from +x, centred on the column.
+fn azimuth_column(x: f64, y: f64, cols: usize) -> usize {
+    let clockwise = (-y.atan2(x)).rem_euclid(TAU);
+    let c = (clockwise / TAU * cols as f64).round() as usize;
+    c % cols
+}
+
+/// True when ring 0's points lie above those of the highest ring.
+fn ring_zero_is_top(cloud: &RawCloud, rings: &[u16]) -> bool {
+    let max_ring = rings.iter().copied().max().unwrap_or(0);
+    let mut sums = [(0.0f64, 0usize); 2];
+    for (p, &r) in cloud.points.iter().zip(rings) {
+        let slot = if r == 0 {
+            0
+        } else if r == max_ring {
+            1
+        } else {
+            continue;
+        };
+        let norm = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+        if norm.is_finite() && norm > 0.0 {
+            sums[slot].0 += f64::from(p[2] / norm);
+            sums[slot].1 += 1;
+        }
+    }
+    let mean = |(s, n): (f64, usize)| if n == 0 { 0.0 } else { s / n as f64 };
+    mean(sums[0]) >= mean(sums[1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(az_deg: f64, el_deg: f64, r: f64) -> [f32; 3] {
+        let (az, el) = (az_deg.to_radians(), el_deg.to_radians());
+        [
+            (r * el.cos() * az.cos()) as f32,
+            (r * el.cos() * az.sin()) as f32,
+            (r * el.sin()) as f32,
+        ]
+    }
+
+    fn config(rows: usize, cols: usize) -> ProjectionConfig {
+        ProjectionConfig {
+            rows,
+            cols,
+            fov_up_deg: 10.0,
+            fov_down_deg: -10.0,
+            ..ProjectionConfig::default()
+        }
+    }
+
+    #[test]
+    fn azimuth_runs_clockwise_from_x() {
+        assert_eq!(azimuth_column(1.0, 0.0, 8), 0);
+        assert_eq!(azimuth_column(0.0, -1.0, 8), 2); // 90° clockwise
+        assert_eq!(azimuth_column(-1.0, 0.0, 8), 4);
+        assert_eq!(azimuth_column(0.0, 1.0, 8), 6);
+        assert_eq!(azimuth_column(1.0, 1e-9, 8), 0);
+    }
+
+    #[test]
+    fn elevation_bins_to_the_nearest_row_and_drops_outside() {
+        let mut p = Projector::new(config(3, 8), "t").unwrap();
+        let cloud = RawCloud {
+            points: vec![
+                point(0.0, 9.0, 5.0),
+                point(0.0, -1.0, 5.0),
+                point(0.0, -30.0, 5.0),
+            ],
+            ..RawCloud::default()
+        };
+        let f = p.project(&cloud, 0).unwrap();
+        let map = f.index_map.as_ref().unwrap();
+        assert_eq!(map.point_to_pixel, vec![0, 8, PixelIndexMap::NONE]);
+        assert_eq!(map.pixel_to_point[0], 0);
+        assert_eq!(f.valid_count(), 2);
+        assert!((f.range[8] - 5.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn the_nearest_point_wins_a_pixel() {
+        let one_beam = ProjectionConfig {
+            altitudes_deg: vec![0.0],
+            ..config(1, 4)
+        };
+        let mut p = Projector::new(one_beam, "t").unwrap();
+        let cloud = RawCloud {
+            points: vec![
+                point(0.0, 0.0, 9.0),
+                point(1.0, 0.0, 4.0),
+                point(-1.0, 0.0, 6.0),
+            ],
+            intensity: Some(vec![1.0, 2.0, 3.0]),
+            ..RawCloud::default()
+        };
+        let f = p.project(&cloud, 0).unwrap();
+        let map = f.index_map.as_ref().unwrap();
+        assert_eq!(map.pixel_to_point[0], 1);
+        assert_eq!(map.point_to_pixel, vec![0, 0, 0]);
+        assert_eq!(f.signal[0], 2.0);
+    }
+
+    #[test]
+    fn ring_order_is_detected_from_elevations() {
+        let mut p = Projector::new(config(2, 4), "t").unwrap();
+        let cloud = RawCloud {
+            points: vec![point(0.0, -5.0, 5.0), point(0.0, 5.0, 5.0)],
+            ring: Some(vec![0, 1]), // ring 0 is the lower beam: Velodyne order
+            ..RawCloud::default()
+        };
+        let f = p.project(&cloud, 0).unwrap();
+        let map = f.index_map.as_ref().unwrap();
+        assert_eq!(map.point_to_pixel, vec![4, 0]);
+        let bad = RawCloud {
+            points: vec![point(0.0, 0.0, 1.0)],
+            ring: Some(vec![7]),
+            ..RawCloud::default()
+        };
+        assert!(p.project(&bad, 1).unwrap_err().contains("ring 7"));
+    }
+
+    #[test]
+    fn beam_tables_and_times() {
+        let c = ProjectionConfig {
+            altitudes_deg: vec![-2.0, 2.0],
+            cols: 4,
+            frame_rate_hz: 10.0,
+            ..ProjectionConfig::default()
+        };
+        let mut p = Projector::new(c, "t").unwrap();
+        assert_eq!(p.beams().altitude_deg, vec![2.0, -2.0]);
+        let cloud = RawCloud {
+            timestamp: 1.0,
+            points: vec![point(0.0, -1.9, 3.0)],
+            ..RawCloud::default()
+        };
+        let f = p.project(&cloud, 0).unwrap();
+        assert!(f.valid[4]);
+        assert!((f.column_times[2] - 1.05).abs() < 1e-12);
+        let bad = ProjectionConfig {
+            fov_up_deg: -30.0,
+            ..ProjectionConfig::default()
+        };
+        assert!(Projector::new(bad, "t").unwrap_err().contains("fov_up_deg"));
+    }
+}
