@@ -92,6 +92,10 @@ pub struct LidarFrame {
     pub cols: usize,
     /// Firing time of every column, seconds (absolute, same clock as `timestamp`).
     pub column_times: Vec<f64>,
+    /// Firing time of every pixel, seconds, when pixels of one column fired at different
+    /// times (a destaggered Ouster image, a projected cloud with per-point times). `None`:
+    /// every pixel has its column's time.
+    pub pixel_times: Option<Vec<f64>>,
     /// Range per pixel, metres.
     pub range: Vec<f32>,
     /// Signal per pixel.
@@ -143,6 +147,7 @@ impl LidarFrame {
             rows,
             cols,
             column_times: vec![timestamp; cols],
+            pixel_times: None,
             range: vec![0.0; n],
             signal: vec![0.0; n],
             reflectivity: vec![0.0; n],
@@ -161,6 +166,15 @@ impl LidarFrame {
             Channel::Signal => &self.signal,
             Channel::Reflectivity => &self.reflectivity,
             Channel::NearIr => &self.near_ir,
+        }
+    }
+
+    /// Firing time of pixel `i` (row-major), seconds.
+    #[inline]
+    pub fn pixel_time(&self, i: usize) -> f64 {
+        match &self.pixel_times {
+            Some(t) => t[i],
+            None => self.column_times[i % self.cols],
         }
     }
 
@@ -186,6 +200,12 @@ impl LidarFrame {
                     "{name} has {len} entries, expected rows*cols = {n}"
                 ));
             }
+        }
+        if let Some(t) = self.pixel_times.as_ref().filter(|t| t.len() != n) {
+            return Err(format!(
+                "pixel_times has {} entries, expected rows*cols = {n}",
+                t.len()
+            ));
         }
         if self.column_times.len() != self.cols {
             return Err(format!(
@@ -213,7 +233,7 @@ impl LidarFrame {
                 continue;
             }
             points.push(p.cast::<f64>());
-            times.push(self.column_times[i % self.cols] - self.timestamp);
+            times.push(self.pixel_time(i) - self.timestamp);
             intensities.push(self.signal[i]);
         }
         PointCloud {

@@ -124,5 +124,6 @@ mod tests {
         assert_eq!(f.range[0], 1.0);
         assert_eq!(f.signal, vec![5.0, 6.0, 7.0]);
         assert!((f.column_times[2] - 2.02).abs() < 1e-12);
+        assert!((f.pixel_time(1) - 2.01).abs() < 1e-12);
     }
 }

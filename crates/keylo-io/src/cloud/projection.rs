@@ -265,6 +265,9 @@ impl Projector {
         } else {
             vec![cloud.timestamp; cols]
         };
+        if let Some(times) = &cloud.time {
+            f.pixel_times = Some(pixel_times(&f, &map.pixel_to_point, times));
+        }
         f.index_map = Some(Arc::new(map));
         Ok(f)
     }
@@ -299,6 +302,18 @@ impl Projector {
                 .total_cmp(&(a[y] - elevation_deg).abs())
         })
     }
+}
+
+/// The time of the point kept in each pixel; empty pixels get their column's time.
+fn pixel_times(f: &LidarFrame, pixel_to_point: &[u32], times: &[f64]) -> Vec<f64> {
+    pixel_to_point
+        .iter()
+        .enumerate()
+        .map(|(p, &i)| match times.get(i as usize) {
+            Some(t) if i != PixelIndexMap::NONE => f.timestamp + t,
+            _ => f.column_times[p % f.cols],
+        })
+        .collect()
 }
 
 fn channel_value(values: Option<&[f32]>, i: usize) -> f32 {
@@ -407,6 +422,7 @@ mod tests {
         };
         let f = p.project(&cloud, 0).unwrap();
         let map = f.index_map.as_ref().unwrap();
+        assert!(f.pixel_times.is_none());
         assert_eq!(map.pixel_to_point[0], 1);
         assert_eq!(map.point_to_pixel, vec![0, 0, 0]);
         assert_eq!(f.signal[0], 2.0);

@@ -122,6 +122,7 @@ pub fn decode(path: &Path, bytes: &[u8], beams: &Arc<BeamGeometry>) -> Result<Li
         rows,
         cols,
         column_times,
+        pixel_times: None,
         range,
         signal,
         reflectivity,
