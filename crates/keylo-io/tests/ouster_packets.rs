@@ -10,7 +10,20 @@ fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/ouster")
 }
 
+/// The sample's folder: the repository's fixtures, else `../shared/data/ouster` (samples too
+/// large to commit); `None` when neither has it.
+fn locate(pcap: &str) -> Option<PathBuf> {
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/ouster");
+    [fixtures(), shared]
+        .into_iter()
+        .find(|d| d.join(pcap).is_file())
+}
+
 fn check_file(pcap: &str) {
+    let Some(dir) = locate(pcap) else {
+        eprintln!("skipped: {pcap} is neither in tests/fixtures/ouster nor ../shared/data/ouster");
+        return;
+    };
     let golden: Value = serde_json::from_str(
         &std::fs::read_to_string(fixtures().join("reference_stats_ouster_sdk.json")).unwrap(),
     )
@@ -18,7 +31,7 @@ fn check_file(pcap: &str) {
     let g = &golden["files"][pcap];
     let meta = OusterMetadata::read(&fixtures().join(g["metadata"].as_str().unwrap())).unwrap();
     let lut = XyzLut::new(&meta);
-    let mut batcher = Batcher::open(&fixtures().join(pcap), &meta).unwrap();
+    let mut batcher = Batcher::open(&dir.join(pcap), &meta).unwrap();
     let mut frames = Vec::new();
     while let Some(f) = batcher.next_frame() {
         frames.push(f.unwrap());
@@ -110,4 +123,9 @@ fn rng19_profile_matches_ouster_sdk() {
 #[test]
 fn legacy_profile_matches_ouster_sdk() {
     check_file("OS-1-64_1024x10_fw20.pcap");
+}
+
+#[test]
+fn dual_return_profile_matches_ouster_sdk() {
+    check_file("OS-0-128_v3.2.0-rc7_2048x10_dual_from_osf.pcap");
 }

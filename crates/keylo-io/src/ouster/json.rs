@@ -71,6 +71,24 @@ impl<'a> Node<'a> {
         }
     }
 
+    /// An unsigned integer written as a number or a decimal string (serial numbers are
+    /// either), if present.
+    pub fn opt_u64_lenient(&self, key: &str) -> Result<Option<u64>, IoError> {
+        match self.value.get(key) {
+            None | Some(Value::Null) => Ok(None),
+            Some(Value::String(s)) if s.trim().is_empty() => Ok(None),
+            Some(Value::String(s)) => s
+                .trim()
+                .parse()
+                .map(Some)
+                .map_err(|_| self.error(key, "an unsigned integer")),
+            Some(v) => v
+                .as_u64()
+                .map(Some)
+                .ok_or_else(|| self.error(key, "an unsigned integer")),
+        }
+    }
+
     /// A string, if present.
     pub fn opt_str(&self, key: &str) -> Result<Option<&'a str>, IoError> {
         match self.value.get(key) {

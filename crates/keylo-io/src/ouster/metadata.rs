@@ -63,6 +63,13 @@ pub struct OusterMetadata {
     pub prod_line: String,
     /// Firmware build revision, e.g. `v3.0.1` (empty when the file does not say).
     pub fw_rev: String,
+    /// Serial number, when the file has one (lidar packets of other profiles than LEGACY
+    /// carry it too).
+    pub prod_sn: Option<u64>,
+    /// Initialisation id of the sensor session, when the file has one (also in packets).
+    pub init_id: Option<u32>,
+    /// UDP destination port of lidar packets, when the file says.
+    pub udp_port_lidar: Option<u16>,
     /// Lidar mode, e.g. `1024x10`.
     pub lidar_mode: String,
     pub columns_per_frame: usize,
@@ -149,6 +156,12 @@ impl OusterMetadata {
         let mut meta = Self::from_format(&format, &lidar_mode, altitude.len())?;
         meta.prod_line = text("prod_line")?;
         meta.fw_rev = text("build_rev")?;
+        if let Some(info) = &info {
+            meta.read_identity(info)?;
+        }
+        if let Some(config) = root.child("config_params") {
+            meta.udp_port_lidar = port(&config)?;
+        }
         meta.with_beams(beams, altitude, lidar_to_sensor)
     }
 
@@ -163,7 +176,18 @@ impl OusterMetadata {
         let lidar_to_sensor = root.opt_f64s_len("lidar_to_sensor_transform", 16)?;
         meta.prod_line = root.opt_str("prod_line")?.unwrap_or_default().to_string();
         meta.fw_rev = root.opt_str("build_rev")?.unwrap_or_default().to_string();
+        meta.read_identity(root)?;
+        meta.udp_port_lidar = port(root)?;
         meta.with_beams(root, altitude, lidar_to_sensor)
+    }
+
+    /// Serial number and initialisation id from `node`.
+    fn read_identity(&mut self, node: &Node) -> Result<(), IoError> {
+        self.prod_sn = node.opt_u64_lenient("prod_sn")?;
+        self.init_id = node
+            .opt_u64_lenient("initialization_id")?
+            .and_then(|v| u32::try_from(v).ok());
+        Ok(())
     }
 
     /// The beam intrinsics from `beams` (the nested `beam_intrinsics` object, or the root of
@@ -256,6 +280,9 @@ impl OusterMetadata {
         Self {
             prod_line: String::new(),
             fw_rev: String::new(),
+            prod_sn: None,
+            init_id: None,
+            udp_port_lidar: None,
             lidar_mode: String::new(),
             columns_per_frame: 0,
             pixels_per_column: 0,
@@ -317,6 +344,14 @@ fn missing(node: &Node, key: &str) -> IoError {
 }
 
 /// `"1024x10"` → (1024 columns, 10 Hz).
+/// `udp_port_lidar` of `node`, when present and not 0.
+fn port(node: &Node) -> Result<Option<u16>, IoError> {
+    Ok(node
+        .opt_u64_lenient("udp_port_lidar")?
+        .and_then(|p| u16::try_from(p).ok())
+        .filter(|&p| p != 0))
+}
+
 fn parse_mode(mode: &str) -> (Option<usize>, Option<u32>) {
     let mut parts = mode.split('x');
     let cols = parts.next().and_then(|c| c.parse().ok());

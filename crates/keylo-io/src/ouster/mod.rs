@@ -4,6 +4,7 @@
 //! `lidar_data_format`, `config_params`, …). Packet decoding and frame assembly follow.
 
 mod batcher;
+mod ipv4;
 mod json;
 mod metadata;
 mod packet;

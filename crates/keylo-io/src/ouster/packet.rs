@@ -15,6 +15,11 @@ pub struct RawFrame {
     pub signal: Vec<u32>,
     pub reflectivity: Vec<u32>,
     pub near_ir: Vec<u32>,
+    /// Second return of dual-return profiles (empty otherwise): range (mm), signal,
+    /// reflectivity.
+    pub range2_mm: Vec<u32>,
+    pub signal2: Vec<u32>,
+    pub reflectivity2: Vec<u32>,
     /// Column time stamps, nanoseconds (0 when the column was not received).
     pub column_ns: Vec<u64>,
     /// Whether a valid column arrived.
@@ -22,9 +27,13 @@ pub struct RawFrame {
 }
 
 impl RawFrame {
-    fn new(frame_id: u32, rows: usize, cols: usize) -> Self {
+    fn new(frame_id: u32, rows: usize, cols: usize, returns: usize) -> Self {
         let n = rows * cols;
+        let n2 = if returns > 1 { n } else { 0 };
         Self {
+            range2_mm: vec![0; n2],
+            signal2: vec![0; n2],
+            reflectivity2: vec![0; n2],
             frame_id,
             rows,
             cols,
@@ -58,11 +67,12 @@ impl PacketFormat {
         let (header, column_header, pixel, column_footer, footer) = match meta.udp_profile_lidar {
             UdpProfile::Legacy => (0, 16, 12, 4, 0),
             UdpProfile::Rng19Rfl8Sig16Nir16 => (32, 12, 12, 0, 32),
+            UdpProfile::Rng19Rfl8Sig16Nir16Dual => (32, 12, 16, 0, 32),
             UdpProfile::Rng15Rfl8Nir8 => (32, 12, 4, 0, 32),
             ref other => {
                 return Err(format!(
                     "UDP lidar profile {} is not supported yet (supported: LEGACY, \
-                     RNG19_RFL8_SIG16_NIR16, RNG15_RFL8_NIR8)",
+                     RNG19_RFL8_SIG16_NIR16, RNG19_RFL8_SIG16_NIR16_DUAL, RNG15_RFL8_NIR8)",
                     other.name()
                 ))
             }
@@ -91,7 +101,7 @@ impl PacketFormat {
 
     /// An empty frame of this format.
     pub fn new_frame(&self, frame_id: u32) -> RawFrame {
-        RawFrame::new(frame_id, self.rows, self.cols)
+        RawFrame::new(frame_id, self.rows, self.cols, self.profile.returns())
     }
 
     /// The frame id of a lidar packet (of the packet size).
@@ -140,6 +150,15 @@ impl PacketFormat {
                 f.reflectivity[i] = u32::from(px[4]);
                 f.signal[i] = u32::from(le16(px, 6));
                 f.near_ir[i] = u32::from(le16(px, 8));
+            }
+            UdpProfile::Rng19Rfl8Sig16Nir16Dual => {
+                f.range_mm[i] = le32(px, 0) & 0x0007_FFFF;
+                f.reflectivity[i] = u32::from(px[3]);
+                f.range2_mm[i] = le32(px, 4) & 0x0007_FFFF;
+                f.reflectivity2[i] = u32::from(px[7]);
+                f.signal[i] = u32::from(le16(px, 8));
+                f.signal2[i] = u32::from(le16(px, 10));
+                f.near_ir[i] = u32::from(le16(px, 12));
             }
             UdpProfile::Rng15Rfl8Nir8 => {
                 f.range_mm[i] = u32::from(le16(px, 0) & 0x7FFF) * 8;

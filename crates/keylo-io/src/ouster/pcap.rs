@@ -1,5 +1,5 @@
-//! UDP payloads from a pcap capture (Ethernet + IPv4 + UDP), with the capture time.
-//! IP fragments are reported as an error for now (the samples hold whole datagrams).
+//! UDP payloads from a pcap capture (Ethernet + IPv4 + UDP, IP fragments joined), with the
+//! capture time.
 
 use std::fs::File;
 use std::io::BufReader;
@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use pcap_file::pcap::PcapReader;
 use pcap_file::DataLink;
 
+use super::ipv4::Reassembler;
 use crate::IoError;
 
 /// One UDP datagram of the capture.
@@ -24,6 +25,7 @@ pub struct UdpReader {
     path: PathBuf,
     reader: PcapReader<BufReader<File>>,
     index: usize,
+    reassembler: Reassembler,
 }
 
 impl UdpReader {
@@ -45,6 +47,7 @@ impl UdpReader {
             path: path.to_path_buf(),
             reader,
             index: 0,
+            reassembler: Reassembler::default(),
         })
     }
 
@@ -60,12 +63,12 @@ impl UdpReader {
             };
             self.index += 1;
             let time = packet.timestamp.as_secs_f64();
-            match udp_of(&packet.data) {
+            match self.reassembler.push(&packet.data) {
                 Ok(Some((dst_port, payload))) => {
                     return Some(Ok(Datagram {
                         time,
                         dst_port,
-                        payload: payload.to_vec(),
+                        payload,
                     }))
                 }
                 Ok(None) => continue,
@@ -78,27 +81,4 @@ impl UdpReader {
             }
         }
     }
-}
-
-/// `(destination port, payload)` of an Ethernet/IPv4/UDP frame; `None` for other traffic.
-fn udp_of(frame: &[u8]) -> Result<Option<(u16, &[u8])>, String> {
-    let be16 = |b: &[u8], at: usize| u16::from_be_bytes([b[at], b[at + 1]]);
-    if frame.len() < 14 || be16(frame, 12) != 0x0800 {
-        return Ok(None);
-    }
-    let ip = &frame[14..];
-    if ip.len() < 20 || ip[9] != 17 {
-        return Ok(None);
-    }
-    let header = usize::from(ip[0] & 0x0F) * 4;
-    if be16(ip, 6) & 0x3FFF != 0 {
-        return Err("IP-fragmented datagram: reassembly is not supported yet".into());
-    }
-    let total = usize::from(be16(ip, 2)).min(ip.len());
-    if header < 20 || total < header + 8 {
-        return Err("malformed IPv4/UDP header".into());
-    }
-    let udp = &ip[header..total];
-    let udp_len = usize::from(be16(udp, 4)).clamp(8, udp.len());
-    Ok(Some((be16(udp, 2), &udp[8..udp_len])))
 }
