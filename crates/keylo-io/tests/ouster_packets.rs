@@ -31,7 +31,7 @@ fn check_file(pcap: &str) {
     let g = &golden["files"][pcap];
     let meta = OusterMetadata::read(&fixtures().join(g["metadata"].as_str().unwrap())).unwrap();
     let lut = XyzLut::new(&meta);
-    let mut batcher = Batcher::open(&dir.join(pcap), &meta).unwrap();
+    let mut batcher = Batcher::open(&dir.join(pcap), &meta, meta.udp_port_lidar).unwrap();
     let mut frames = Vec::new();
     while let Some(f) = batcher.next_frame() {
         frames.push(f.unwrap());

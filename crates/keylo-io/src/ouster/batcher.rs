@@ -1,6 +1,7 @@
-//! Groups lidar packets into frames by frame id, as ouster-sdk's scan batcher does.
+//! Groups lidar packets into frames by frame id, as ouster-sdk's scan batcher does, keeping
+//! only the packets of the sensor the metadata describes.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::metadata::OusterMetadata;
 use super::packet::{PacketFormat, RawFrame};
@@ -14,35 +15,85 @@ pub struct BatchedFrame {
     pub complete: bool,
 }
 
+/// Packets that were not used, by reason (reported when a capture yields no frame).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Skipped {
+    /// UDP datagrams to another port than the lidar port.
+    pub other_port: usize,
+    /// Datagrams whose size is not the lidar packet size (IMU packets, other profiles).
+    pub other_size: usize,
+    /// Lidar packets of another sensor or session (serial number or init id differ).
+    pub other_sensor: usize,
+}
+
 /// Reads the frames of an Ouster pcap, staggered, in capture order.
 pub struct Batcher {
+    path: PathBuf,
     reader: UdpReader,
     format: PacketFormat,
     window: (usize, usize),
+    port: Option<u16>,
+    identity: (Option<u32>, Option<u64>),
     current: Option<RawFrame>,
     done: bool,
+    skipped: Skipped,
 }
 
 impl Batcher {
-    /// Opens `pcap` for the sensor described by `meta`.
-    pub fn open(pcap: &Path, meta: &OusterMetadata) -> Result<Self, IoError> {
+    /// Opens `pcap` for the sensor described by `meta`. Lidar packets are those to `port`
+    /// (any port when `None`) of the packet size of `meta`'s profile, from the sensor with
+    /// `meta`'s serial number and init id (when the metadata and the packets carry them).
+    pub fn open(pcap: &Path, meta: &OusterMetadata, port: Option<u16>) -> Result<Self, IoError> {
         let format = PacketFormat::new(meta).map_err(|m| IoError::format(pcap, m))?;
         Ok(Self {
+            path: pcap.to_path_buf(),
             reader: UdpReader::open(pcap)?,
             format,
             window: meta.column_window,
+            port,
+            identity: (meta.init_id, meta.prod_sn),
             current: None,
             done: false,
+            skipped: Skipped::default(),
         })
+    }
+
+    /// Datagrams skipped so far.
+    pub fn skipped(&self) -> Skipped {
+        self.skipped
     }
 
     fn finish(&self, frame: RawFrame) -> BatchedFrame {
         let (first, last) = self.window;
-        let complete = frame.column_valid[first..=last].iter().all(|v| *v);
+        let complete = frame
+            .column_valid
+            .get(first..=last)
+            .is_some_and(|w| w.iter().all(|v| *v));
         BatchedFrame { frame, complete }
     }
 
-    /// The next frame; `None` at the end of the capture.
+    /// Whether a datagram is a lidar packet of our sensor; counts the others.
+    fn accept(&mut self, port: u16, payload: &[u8]) -> bool {
+        if self.port.is_some_and(|p| p != port) {
+            self.skipped.other_port += 1;
+            return false;
+        }
+        if payload.len() != self.format.packet_size() {
+            self.skipped.other_size += 1;
+            return false;
+        }
+        if let Some((init_id, sn)) = self.format.identity(payload) {
+            let (want_id, want_sn) = self.identity;
+            if want_id.is_some_and(|w| w != init_id) || want_sn.is_some_and(|w| w != sn) {
+                self.skipped.other_sensor += 1;
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The next frame; `None` at the end of the capture. After an error (a truncated or
+    /// corrupt capture) the batcher stops: frames before it were already returned.
     pub fn next_frame(&mut self) -> Option<Result<BatchedFrame, IoError>> {
         while !self.done {
             let datagram = match self.reader.next_datagram() {
@@ -50,11 +101,15 @@ impl Batcher {
                     self.done = true;
                     break;
                 }
-                Some(Err(e)) => return Some(Err(e)),
+                Some(Err(e)) => {
+                    self.done = true;
+                    self.current = None;
+                    return Some(Err(e));
+                }
                 Some(Ok(d)) => d,
             };
-            if datagram.payload.len() != self.format.packet_size() {
-                continue; // IMU or foreign packet
+            if !self.accept(datagram.dst_port, &datagram.payload) {
+                continue;
             }
             let id = self.format.frame_id(&datagram.payload);
             let finished = match &self.current {
@@ -70,5 +125,31 @@ impl Batcher {
             }
         }
         self.current.take().map(|f| Ok(self.finish(f)))
+    }
+
+    /// The error for a capture that held no lidar packet of this sensor: what it held instead.
+    pub fn no_frames_error(&self) -> IoError {
+        let s = self.skipped;
+        let (id, sn) = self.identity;
+        let mut msg = format!(
+            "no lidar packet of this sensor ({} bytes per packet, profile {}",
+            self.format.packet_size(),
+            self.format.profile_name()
+        );
+        if let Some(p) = self.port {
+            msg += &format!(", port {p}");
+        }
+        if let Some(sn) = sn {
+            msg += &format!(", serial {sn}");
+        }
+        if let Some(id) = id {
+            msg += &format!(", init id {id}");
+        }
+        msg += &format!(
+            "); skipped {} datagrams to other ports, {} of other sizes, {} of other sensors \
+             — is the metadata JSON the one of this capture?",
+            s.other_port, s.other_size, s.other_sensor
+        );
+        IoError::format(&self.path, msg)
     }
 }

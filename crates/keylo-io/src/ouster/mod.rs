@@ -4,6 +4,7 @@
 //! `lidar_data_format`, `config_params`, …). Packet decoding and frame assembly follow.
 
 mod batcher;
+mod destagger;
 mod ipv4;
 mod json;
 mod metadata;
@@ -11,7 +12,8 @@ mod packet;
 mod pcap;
 mod xyz;
 
-pub use batcher::{BatchedFrame, Batcher};
+pub use batcher::{BatchedFrame, Batcher, Skipped};
+pub use destagger::{Destaggerer, Return};
 pub use metadata::{OusterMetadata, UdpProfile};
 pub use packet::{PacketFormat, RawFrame};
 pub use pcap::{Datagram, UdpReader};

@@ -94,6 +94,11 @@ impl PacketFormat {
         self.column_header + self.rows * self.pixel + self.column_footer
     }
 
+    /// The profile's name.
+    pub fn profile_name(&self) -> &str {
+        self.profile.name()
+    }
+
     /// Bytes of one lidar packet (other sizes are IMU or foreign packets).
     pub fn packet_size(&self) -> usize {
         self.header + self.columns_per_packet * self.column_size() + self.footer
@@ -110,6 +115,18 @@ impl PacketFormat {
             UdpProfile::Legacy => u32::from(le16(p, 10)),
             _ => u32::from(le16(p, 2)),
         }
+    }
+
+    /// `(initialisation id, serial number)` from the packet header; `None` for LEGACY
+    /// packets, which carry neither.
+    pub fn identity(&self, p: &[u8]) -> Option<(u32, u64)> {
+        if self.profile == UdpProfile::Legacy {
+            return None;
+        }
+        let init_id = u32::from_le_bytes([p[4], p[5], p[6], 0]);
+        let mut sn = [0u8; 8];
+        sn[..5].copy_from_slice(&p[7..12]);
+        Some((init_id, u64::from_le_bytes(sn)))
     }
 
     /// Copies the packet's columns into `frame`. Columns with an invalid status or a
@@ -163,7 +180,8 @@ impl PacketFormat {
             UdpProfile::Rng15Rfl8Nir8 => {
                 f.range_mm[i] = u32::from(le16(px, 0) & 0x7FFF) * 8;
                 f.reflectivity[i] = u32::from(px[2]);
-                f.near_ir[i] = u32::from(px[3]);
+                // 8 bits on the wire, scaled by 16 as ouster-sdk does (NEAR_IR shift -4).
+                f.near_ir[i] = u32::from(px[3]) << 4;
             }
             _ => {}
         }
