@@ -24,7 +24,7 @@ pub fn remove_files_with_extension(dir: &std::path::Path, ext: &str) -> Result<(
     Ok(())
 }
 
-/// Registers source kind `frames` and its `--data` probe.
+/// Registers the source kinds of this crate and their `--data` probes.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.sources.add::<frames::FramesSourceConfig>(
         "frames",
@@ -32,4 +32,10 @@ pub fn register(registry: &mut keylo_core::Registry) {
         |c, ctx| Ok(Box::new(frames::FramesSource::open(&c, ctx)?)),
     );
     registry.add_source_probe("frames", frames::is_frames_dir);
+    registry.sources.add::<ouster::OusterSourceConfig>(
+        "ouster",
+        "an Ouster pcap capture with its sensor metadata JSON (X.json beside X.pcap, or `meta`)",
+        |c, ctx| Ok(Box::new(ouster::OusterSource::open(&c, ctx)?)),
+    );
+    registry.add_source_probe("ouster", ouster::is_pcap);
 }

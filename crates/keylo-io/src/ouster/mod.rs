@@ -1,15 +1,18 @@
-//! Ouster sensors without the Ouster SDK. This first part reads the sensor metadata JSON in
-//! both layouts ouster-sdk reads: the legacy flat layout (firmware ≤ 2.x, with or without
-//! `data_format`) and the nested layout of firmware 3.x (`beam_intrinsics`,
-//! `lidar_data_format`, `config_params`, …). Packet decoding and frame assembly follow.
+//! Ouster sensors without the Ouster SDK: the metadata JSON in both layouts ouster-sdk reads
+//! (legacy flat, firmware ≤ 2.x; nested, firmware 3.x), lidar packets from pcap captures
+//! (IP fragments joined; profiles LEGACY, RNG19_RFL8_SIG16_NIR16 and its dual-return variant,
+//! RNG15_RFL8_NIR8), frames batched by frame id, destaggered, with XYZ and per-pixel times as
+//! ouster-sdk computes them. [`OusterSource`] is source kind `ouster`.
 
 mod batcher;
+mod checks;
 mod destagger;
 mod ipv4;
 mod json;
 mod metadata;
 mod packet;
 mod pcap;
+mod source;
 mod xyz;
 
 pub use batcher::{BatchedFrame, Batcher, Skipped};
@@ -17,4 +20,5 @@ pub use destagger::{Destaggerer, Return};
 pub use metadata::{OusterMetadata, UdpProfile};
 pub use packet::{PacketFormat, RawFrame};
 pub use pcap::{Datagram, UdpReader};
+pub use source::{is_pcap, metadata_path, OusterSource, OusterSourceConfig, PartialFrames};
 pub use xyz::XyzLut;

@@ -24,6 +24,9 @@ pub struct RawFrame {
     pub column_ns: Vec<u64>,
     /// Whether a valid column arrived.
     pub column_valid: Vec<bool>,
+    /// Valid columns whose measurement id was not below the column count (a metadata JSON
+    /// of another lidar mode); they are dropped.
+    pub out_of_range_columns: usize,
 }
 
 impl RawFrame {
@@ -43,6 +46,7 @@ impl RawFrame {
             near_ir: vec![0; n],
             column_ns: vec![0; cols],
             column_valid: vec![false; cols],
+            out_of_range_columns: 0,
         }
     }
 }
@@ -139,7 +143,11 @@ impl PacketFormat {
                 UdpProfile::Legacy => le32(col, self.column_size() - 4) == 0xFFFF_FFFF,
                 _ => le16(col, 10) & 1 == 1,
             };
-            if !valid || m >= self.cols {
+            if !valid {
+                continue;
+            }
+            if m >= self.cols {
+                frame.out_of_range_columns += 1;
                 continue;
             }
             frame.column_ns[m] = le64(col, 0);

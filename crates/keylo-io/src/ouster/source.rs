@@ -1,0 +1,255 @@
+//! `[source] kind = "ouster"`: frames of an Ouster pcap capture with its metadata JSON.
+
+use std::path::{Path, PathBuf};
+
+use keylo_core::{BuildContext, CoreError, ImageSource, LidarFrame, SourceInfo};
+use serde::{Deserialize, Serialize};
+
+use super::batcher::{BatchedFrame, Batcher};
+use super::checks::check_frame;
+use super::destagger::{Destaggerer, Return};
+use super::metadata::OusterMetadata;
+use crate::select::FrameSelection;
+use crate::IoError;
+
+/// What happens to frames that miss columns of the column window.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum PartialFrames {
+    /// Skip an incomplete first or last frame (the capture started or stopped mid-turn);
+    /// keep incomplete frames in between, their missing columns invalid.
+    #[default]
+    SkipEnds,
+    /// Keep every frame.
+    Keep,
+    /// Skip every incomplete frame.
+    SkipAll,
+}
+
+/// `[source] kind = "ouster"`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(default, deny_unknown_fields)]
+pub struct OusterSourceConfig {
+    /// The pcap capture; relative to the config file.
+    pub path: String,
+    /// The sensor metadata JSON; empty = `X.json` beside `X.pcap`. `--meta FILE` sets it.
+    pub meta: String,
+    /// Index of the first frame to read (after partial frames are skipped).
+    pub start: usize,
+    /// Read every `stride`-th frame.
+    pub stride: usize,
+    /// Frames to read at most; 0 = all.
+    pub max_frames: usize,
+    /// Frames missing columns: `skip-ends` (an incomplete first or last frame is dropped),
+    /// `keep`, or `skip-all`.
+    pub partial_frames: PartialFrames,
+    /// With dual-return profiles, the return that fills the frame: 1 = strongest,
+    /// 2 = second strongest.
+    pub return_number: u8,
+    /// UDP port of the lidar packets; 0 = the metadata's `udp_port_lidar`, or any port when
+    /// the metadata has none.
+    pub udp_port: u16,
+}
+
+impl Default for OusterSourceConfig {
+    fn default() -> Self {
+        Self {
+            path: String::new(),
+            meta: String::new(),
+            start: 0,
+            stride: 1,
+            max_frames: 0,
+            partial_frames: PartialFrames::SkipEnds,
+            return_number: 1,
+            udp_port: 0,
+        }
+    }
+}
+
+/// True for a `.pcap` file.
+pub fn is_pcap(path: &Path) -> bool {
+    path.is_file()
+        && path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("pcap"))
+}
+
+/// The metadata of `pcap`: `meta` when given, else `X.json` beside `X.pcap`.
+pub fn metadata_path(pcap: &Path, meta: Option<&Path>) -> Result<PathBuf, IoError> {
+    if let Some(m) = meta {
+        return Ok(m.to_path_buf());
+    }
+    let beside = pcap.with_extension("json");
+    if beside.is_file() {
+        Ok(beside)
+    } else {
+        Err(IoError::format(
+            pcap,
+            format!(
+                "no sensor metadata: expected {} beside the capture, or give one with \
+                 `--meta FILE` (`[source] meta`)",
+                beside.display()
+            ),
+        ))
+    }
+}
+
+/// `e` saying how many frames were read before it.
+fn after_frame(e: CoreError, frames: usize) -> CoreError {
+    match e {
+        CoreError::Input { path, message } => CoreError::Input {
+            path,
+            message: format!("after {frames} frames: {message}"),
+        },
+        other => other,
+    }
+}
+
+/// Reads an Ouster capture frame by frame (memory independent of the capture's length).
+pub struct OusterSource {
+    pcap: PathBuf,
+    meta: OusterMetadata,
+    batcher: Batcher,
+    destagger: Destaggerer,
+    selection: FrameSelection,
+    partial: PartialFrames,
+    which: Return,
+    /// The frame read ahead (to know whether the current one is the last).
+    ahead: Option<Result<BatchedFrame, IoError>>,
+    /// Frames read from the capture so far (before selection).
+    read: usize,
+    /// Frames that passed the partial-frame rule so far (the index `start`/`stride` count).
+    kept: usize,
+    failed: bool,
+}
+
+impl OusterSource {
+    /// Opens the capture and its metadata; errors name the file that is wrong.
+    pub fn open(config: &OusterSourceConfig, ctx: &BuildContext) -> Result<Self, IoError> {
+        if config.path.is_empty() {
+            return Err(IoError::format(
+                Path::new("source.path"),
+                "no capture given: set `[source] path` or pass --data X.pcap",
+            ));
+        }
+        let pcap = ctx.resolve_path(&config.path);
+        let meta_arg = (!config.meta.is_empty()).then(|| ctx.resolve_path(&config.meta));
+        let meta_path = metadata_path(&pcap, meta_arg.as_deref())?;
+        let meta = OusterMetadata::read(&meta_path)?;
+        let which = match config.return_number {
+            1 => Return::Strongest,
+            2 if meta.udp_profile_lidar.returns() == 2 => Return::Second,
+            2 => {
+                return Err(IoError::format(
+                    &meta_path,
+                    format!(
+                        "`source.return_number` = 2 but profile {} has one return",
+                        meta.udp_profile_lidar.name()
+                    ),
+                ))
+            }
+            n => {
+                return Err(IoError::format(
+                    Path::new("source.return_number"),
+                    format!("{n}: expected 1 (strongest) or 2 (second strongest)"),
+                ))
+            }
+        };
+        let selection = FrameSelection::new(config.start, config.stride, config.max_frames)
+            .map_err(|m| IoError::format(Path::new("source.stride"), m))?;
+        let port = match config.udp_port {
+            0 => meta.udp_port_lidar,
+            p => Some(p),
+        };
+        let mut batcher = Batcher::open(&pcap, &meta, port)?;
+        let ahead = batcher.next_frame();
+        if ahead.is_none() {
+            return Err(batcher.no_frames_error());
+        }
+        Ok(Self {
+            destagger: Destaggerer::new(&meta),
+            pcap,
+            meta,
+            batcher,
+            selection,
+            partial: config.partial_frames,
+            which,
+            ahead,
+            read: 0,
+            kept: 0,
+            failed: false,
+        })
+    }
+
+    /// The sensor metadata.
+    pub fn metadata(&self) -> &OusterMetadata {
+        &self.meta
+    }
+
+    /// The next frame that passes the partial-frame rule, with its capture index.
+    fn next_kept(&mut self) -> Option<Result<BatchedFrame, IoError>> {
+        loop {
+            let current = self.ahead.take()?;
+            let batched = match current {
+                Ok(b) => b,
+                Err(e) => return Some(Err(e)),
+            };
+            if let Err(msg) = check_frame(&batched.frame, &self.meta) {
+                return Some(Err(IoError::format(&self.pcap, msg)));
+            }
+            self.ahead = self.batcher.next_frame();
+            let (first, last) = (self.read == 0, self.ahead.is_none());
+            self.read += 1;
+            let skip = !batched.complete
+                && match self.partial {
+                    PartialFrames::Keep => false,
+                    PartialFrames::SkipAll => true,
+                    PartialFrames::SkipEnds => first || last,
+                };
+            if !skip {
+                return Some(Ok(batched));
+            }
+        }
+    }
+}
+
+impl ImageSource for OusterSource {
+    fn info(&self) -> SourceInfo {
+        SourceInfo {
+            description: format!(
+                "Ouster {} {} {} ({})",
+                self.meta.prod_line,
+                self.meta.lidar_mode,
+                self.meta.udp_profile_lidar.name(),
+                self.pcap.display()
+            ),
+            frames: None,
+        }
+    }
+
+    fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>> {
+        while !self.failed {
+            if self.selection.past_end(self.kept) {
+                return None;
+            }
+            let batched = match self.next_kept()? {
+                Ok(b) => b,
+                Err(e) => {
+                    self.failed = true;
+                    return Some(Err(after_frame(e.into(), self.kept)));
+                }
+            };
+            let index = self.kept;
+            self.kept += 1;
+            if self.selection.wants(index) {
+                let frame = self
+                    .destagger
+                    .frame(&batched.frame, index as u64, self.which);
+                return Some(Ok(frame));
+            }
+        }
+        None
+    }
+}
