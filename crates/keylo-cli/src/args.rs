@@ -27,6 +27,10 @@ pub enum Command {
     Sim(SimArgs),
     /// ATE/RPE of an estimated trajectory against a reference (TUM or KITTI files).
     Eval(EvalArgs),
+    /// Show what a data path holds; with --image N, write frame N's channel images as PNG.
+    Info(InfoArgs),
+    /// Write the frames of any source as KITTI .bin, PLY, PCD or a keylo frame folder.
+    Convert(ConvertArgs),
     /// Inspect configs and the registered backends.
     #[command(subcommand)]
     Config(ConfigCommand),
@@ -39,6 +43,10 @@ pub struct RunArgs {
     /// Data to read instead of `[source]` (kind auto-detected).
     #[arg(long)]
     pub data: Option<PathBuf>,
+    /// Sensor metadata of the data (an Ouster capture's JSON when it is not X.json beside
+    /// X.pcap).
+    #[arg(long)]
+    pub meta: Option<PathBuf>,
     /// Ground-truth trajectory (TUM or KITTI) for accuracy figures.
     #[arg(long)]
     pub gt: Option<PathBuf>,
@@ -118,4 +126,61 @@ pub enum ConfigCommand {
     Kinds,
     /// Print the Markdown config reference (docs/config.md is generated with this).
     Docs,
+}
+
+/// The data a command reads: a path whose kind is detected, its metadata, overrides.
+#[derive(Debug, Args)]
+pub struct DataArgs {
+    /// Data path (pcap, bag, mcap, KITTI/PLY/PCD folder, keylo frame folder, …).
+    pub data: PathBuf,
+    /// Sensor metadata (an Ouster capture's JSON when it is not X.json beside X.pcap).
+    #[arg(long)]
+    pub meta: Option<PathBuf>,
+    /// Override a source parameter, e.g. --set source.max_frames=10 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+}
+
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// Write the channel images of frame N (0-based) as PNG into --out.
+    #[arg(long, value_name = "N", requires = "out")]
+    pub image: Option<usize>,
+    /// Folder for the PNG images of --image.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ConvertFormat {
+    /// KITTI velodyne .bin: x y z + one channel (float32), in velodyne/.
+    KittiBin,
+    /// Binary little-endian PLY, one file per frame.
+    Ply,
+    /// Binary PCD v0.7, one file per frame.
+    Pcd,
+    /// keylo frame folder (every channel, the organised grid).
+    Frames,
+}
+
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// Output format.
+    #[arg(long, value_enum)]
+    pub format: ConvertFormat,
+    /// Output folder.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Per-point values besides x y z: signal, reflectivity, near-ir, range, ring, time
+    /// (comma separated). PLY/PCD default: signal,reflectivity,near-ir,range,ring,time;
+    /// KITTI .bin takes exactly one (default signal).
+    #[arg(long, value_delimiter = ',')]
+    pub channels: Vec<String>,
 }

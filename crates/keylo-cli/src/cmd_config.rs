@@ -13,7 +13,7 @@ pub fn run(cmd: ConfigCommand) -> Result<ExitCode> {
     let registry = keylo::registry();
     match cmd {
         ConfigCommand::Show { file, sets } => {
-            let config = configs::load(&registry, file.as_deref(), None, &sets)?;
+            let config = configs::load(&registry, file.as_deref(), None, None, &sets)?;
             print!("{}", render_resolved(&config, &registry));
         }
         ConfigCommand::Kinds => print!("{}", kinds(&registry)),

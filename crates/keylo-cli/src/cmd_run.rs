@@ -20,6 +20,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         &registry,
         args.config.as_deref(),
         args.data.as_deref(),
+        args.meta.as_deref(),
         &args.sets,
     )?;
     // A ground-truth file named by the user must be readable before any work starts.

@@ -15,6 +15,7 @@ pub fn load(
     registry: &Registry,
     file: Option<&Path>,
     data: Option<&Path>,
+    meta: Option<&Path>,
     sets: &[String],
 ) -> Result<PipelineConfig> {
     let mut raw = match (file, data) {
@@ -30,6 +31,9 @@ pub fn load(
             bail!("--set {s} conflicts with --data: --data chooses the source kind from the data");
         }
         apply_data(registry, &mut raw, data)?;
+    }
+    if let Some(meta) = meta {
+        apply_meta(&mut raw, meta)?;
     }
     for s in sets {
         raw.set(s)?;
@@ -60,5 +64,25 @@ fn apply_data(registry: &Registry, raw: &mut RawConfig, data: &Path) -> Result<(
         toml::Value::String(path.display().to_string()),
     );
     raw.replace_section("source", table);
+    Ok(())
+}
+
+/// `--meta FILE`: the sensor metadata of the source (`[source] meta`, Ouster captures).
+fn apply_meta(raw: &mut RawConfig, meta: &Path) -> Result<()> {
+    if !meta.is_file() {
+        bail!("--meta {}: no such file", meta.display());
+    }
+    let path = std::path::absolute(meta).unwrap_or_else(|_| meta.to_path_buf());
+    let Some(source) = raw
+        .table
+        .get_mut("source")
+        .and_then(toml::Value::as_table_mut)
+    else {
+        bail!("--meta needs a source: give --data or a config with a [source] section");
+    };
+    source.insert(
+        "meta".into(),
+        toml::Value::String(path.display().to_string()),
+    );
     Ok(())
 }

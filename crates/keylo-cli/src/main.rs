@@ -2,7 +2,9 @@
 
 mod args;
 mod cmd_config;
+mod cmd_convert;
 mod cmd_eval;
+mod cmd_info;
 mod cmd_run;
 mod cmd_sim;
 mod configs;
@@ -41,6 +43,8 @@ fn main() -> ExitCode {
         Command::Run(a) => cmd_run::run(a, cli.quiet),
         Command::Sim(a) => cmd_sim::run(a, cli.quiet),
         Command::Eval(a) => cmd_eval::run(a),
+        Command::Info(a) => cmd_info::run(a),
+        Command::Convert(a) => cmd_convert::run(a, cli.quiet),
         Command::Config(a) => cmd_config::run(a),
     };
     match outcome {

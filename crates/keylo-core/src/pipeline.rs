@@ -188,6 +188,18 @@ impl Odometry {
     }
 }
 
+/// Builds only the source of a resolved config (for tools that read data without running
+/// odometry: `keylo info`, `keylo convert`).
+pub fn build_source(
+    config: &PipelineConfig,
+    registry: &Registry,
+) -> Result<Box<dyn ImageSource>, CoreError> {
+    let ctx = BuildContext {
+        base_dir: config.base_dir.clone(),
+    };
+    build_stage(&registry.sources, "source", &config.source, &ctx)
+}
+
 /// A source plus the per-frame stages: iterate it to run odometry.
 pub struct Pipeline {
     pub source: Box<dyn ImageSource>,
@@ -197,11 +209,8 @@ pub struct Pipeline {
 impl Pipeline {
     /// Builds every stage of a resolved config.
     pub fn build(config: &PipelineConfig, registry: &Registry) -> Result<Self, CoreError> {
-        let ctx = BuildContext {
-            base_dir: config.base_dir.clone(),
-        };
         Ok(Self {
-            source: build_stage(&registry.sources, "source", &config.source, &ctx)?,
+            source: build_source(config, registry)?,
             odometry: Odometry::build(config, registry)?,
         })
     }

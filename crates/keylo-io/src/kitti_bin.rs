@@ -26,6 +26,25 @@ pub fn write_kitti_bin(path: &Path, frame: &LidarFrame) -> Result<usize, IoError
     Ok(n)
 }
 
+/// Writes the points of `points` as x y z + its first field (float32; the signal when it has
+/// no field); returns the number of points.
+pub fn write_kitti_bin_points(
+    path: &Path,
+    points: &crate::export::ExportPoints,
+) -> Result<usize, IoError> {
+    let field = points.fields.first().copied();
+    let mut bytes = Vec::with_capacity(points.pixels.len() * 16);
+    for &i in &points.pixels {
+        let v = field.map_or(f32::NAN, |f| points.value(f, i));
+        let [x, y, z] = points.xyz(i);
+        for v in [x, y, z, if v.is_nan() { 0.0 } else { v }] {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    std::fs::write(path, &bytes).map_err(|e| IoError::io(path, e))?;
+    Ok(points.pixels.len())
+}
+
 /// Reads a `.bin` frame back as `[x, y, z, intensity]` rows.
 pub fn read_kitti_bin(path: &Path) -> Result<Vec<[f32; 4]>, IoError> {
     let bytes = std::fs::read(path).map_err(|e| IoError::io(path, e))?;

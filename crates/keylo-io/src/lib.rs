@@ -6,6 +6,7 @@
 
 pub mod cloud;
 mod error;
+pub mod export;
 pub mod frames;
 pub mod kitti_bin;
 pub mod ouster;

@@ -18,6 +18,11 @@ pub trait ImageSource: Send {
     fn info(&self) -> SourceInfo;
     /// The next frame, `None` at the end; an `Err` names the file and the frame that failed.
     fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>>;
+    /// What the data holds beyond the frames, as `(label, value)` lines for `keylo info`:
+    /// sensor, firmware, profile, topics, fields, … Empty by default.
+    fn details(&self) -> Vec<(String, String)> {
+        Vec::new()
+    }
     /// Ground truth shipped with the data (e.g. the simulator's `gt.tum`), if any.
     fn ground_truth(&self) -> Option<crate::Trajectory> {
         None::<Trajectory>

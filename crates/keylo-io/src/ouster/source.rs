@@ -110,6 +110,7 @@ fn after_frame(e: CoreError, frames: usize) -> CoreError {
 /// Reads an Ouster capture frame by frame (memory independent of the capture's length).
 pub struct OusterSource {
     pcap: PathBuf,
+    meta_path: PathBuf,
     meta: OusterMetadata,
     batcher: Batcher,
     destagger: Destaggerer,
@@ -171,6 +172,7 @@ impl OusterSource {
         Ok(Self {
             destagger: Destaggerer::new(&meta),
             pcap,
+            meta_path,
             meta,
             batcher,
             selection,
@@ -227,6 +229,44 @@ impl ImageSource for OusterSource {
             ),
             frames: None,
         }
+    }
+
+    fn details(&self) -> Vec<(String, String)> {
+        let m = &self.meta;
+        let or_unknown = |s: &str| {
+            if s.is_empty() {
+                "unknown".to_string()
+            } else {
+                s.to_string()
+            }
+        };
+        let mut d = vec![
+            ("sensor".into(), or_unknown(&m.prod_line)),
+            (
+                "serial".into(),
+                m.prod_sn.map_or("unknown".into(), |s| s.to_string()),
+            ),
+            ("firmware".into(), or_unknown(&m.fw_rev)),
+            ("lidar mode".into(), m.lidar_mode.clone()),
+            ("UDP profile".into(), m.udp_profile_lidar.name().to_string()),
+            ("returns".into(), m.udp_profile_lidar.returns().to_string()),
+            (
+                "column window".into(),
+                format!("{}..={}", m.column_window.0, m.column_window.1),
+            ),
+            ("metadata".into(), self.meta_path.display().to_string()),
+        ];
+        let s = self.batcher.skipped();
+        if s.other_port + s.other_size + s.other_sensor > 0 {
+            d.push((
+                "datagrams skipped".into(),
+                format!(
+                    "{} other port, {} other size (IMU, …), {} other sensor",
+                    s.other_port, s.other_size, s.other_sensor
+                ),
+            ));
+        }
+        d
     }
 
     fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>> {

@@ -1,0 +1,141 @@
+//! `keylo info PATH`: what a data path holds (kind, frames, duration, sensor, resolution,
+//! format details), and with `--image N --out DIR` frame N's channel images as PNG.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use keylo::io::export::png_image::write_channel_png;
+use keylo::{Channel, LidarFrame};
+use serde::Serialize;
+
+use crate::args::InfoArgs;
+use crate::{configs, EXIT_FRAME_FAILED};
+
+/// What `keylo info` reports.
+#[derive(Debug, Default, Serialize)]
+struct Info {
+    kind: String,
+    path: String,
+    description: String,
+    details: Vec<(String, String)>,
+    frames: usize,
+    duration_s: Option<f64>,
+    rows: usize,
+    cols: usize,
+    sensor: String,
+    mean_valid_pixels: f64,
+    channels_with_data: Vec<String>,
+    ground_truth_poses: Option<usize>,
+    images_written: Vec<String>,
+    error: Option<String>,
+}
+
+pub fn run(args: InfoArgs) -> Result<ExitCode> {
+    let registry = keylo::registry();
+    let d = &args.data;
+    let config = configs::load(&registry, None, Some(&d.data), d.meta.as_deref(), &d.sets)?;
+    let mut source = keylo::build_source(&config, &registry)?;
+    let mut info = Info {
+        kind: config.source.kind.clone(),
+        path: d.data.display().to_string(),
+        description: source.info().description,
+        ..Info::default()
+    };
+    let (mut first, mut last, mut valid) = (None, None, 0usize);
+    let mut has_data = [false; 4];
+    while let Some(frame) = source.next_frame() {
+        let frame = match frame {
+            Ok(f) => f,
+            Err(e) => {
+                info.error = Some(format!("frame {}: {e}", info.frames));
+                break;
+            }
+        };
+        if args.image == Some(info.frames) {
+            if let Some(out) = &args.out {
+                info.images_written = write_images(out, &frame)?;
+            }
+        }
+        first.get_or_insert(frame.timestamp);
+        last = Some(frame.timestamp);
+        (info.rows, info.cols) = (frame.rows, frame.cols);
+        info.sensor.clone_from(&frame.beams.model);
+        valid += frame.valid_count();
+        for (k, c) in Channel::ALL.into_iter().enumerate() {
+            has_data[k] |= frame.channel(c).iter().any(|v| *v != 0.0);
+        }
+        info.frames += 1;
+    }
+    info.details = source.details();
+    info.duration_s = first.zip(last).map(|(a, b)| b - a);
+    info.mean_valid_pixels = valid as f64 / info.frames.max(1) as f64;
+    info.channels_with_data = Channel::ALL
+        .into_iter()
+        .zip(has_data)
+        .filter(|(_, has)| *has)
+        .map(|(c, _)| c.name().to_string())
+        .collect();
+    info.ground_truth_poses = source.ground_truth().map(|t| t.len());
+    if let (Some(n), true) = (args.image, info.images_written.is_empty()) {
+        info.error.get_or_insert(format!(
+            "--image {n}: the data holds {} frames (0..{})",
+            info.frames, info.frames
+        ));
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&info)?);
+    } else {
+        print_text(&info);
+    }
+    Ok(match &info.error {
+        Some(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(EXIT_FRAME_FAILED)
+        }
+        None => ExitCode::SUCCESS,
+    })
+}
+
+fn write_images(out: &Path, frame: &LidarFrame) -> Result<Vec<String>> {
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let mut written = Vec::new();
+    for c in Channel::ALL {
+        let path = out.join(format!("frame{:06}_{}.png", frame.index, c.name()));
+        write_channel_png(&path, frame, c)?;
+        written.push(path.display().to_string());
+    }
+    Ok(written)
+}
+
+fn print_text(info: &Info) {
+    let row = |k: &str, v: String| println!("  {k:<22}{v}");
+    println!("{}", info.path);
+    row("kind", info.kind.clone());
+    row("source", info.description.clone());
+    for (k, v) in &info.details {
+        row(k, v.clone());
+    }
+    row("frames", info.frames.to_string());
+    if let Some(d) = info.duration_s {
+        row("duration (s)", format!("{d:.3}"));
+    }
+    if !info.details.iter().any(|(k, _)| k == "sensor") {
+        row("sensor", info.sensor.clone());
+    }
+    row(
+        "resolution",
+        format!("{} x {} (rows x cols)", info.rows, info.cols),
+    );
+    row(
+        "valid pixels (mean)",
+        format!("{:.0}", info.mean_valid_pixels),
+    );
+    row("channels with data", info.channels_with_data.join(", "));
+    if let Some(n) = info.ground_truth_poses {
+        row("ground truth", format!("{n} poses"));
+    }
+    for p in &info.images_written {
+        row("wrote", p.clone());
+    }
+}
