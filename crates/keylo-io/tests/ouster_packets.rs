@@ -81,7 +81,7 @@ fn check_file(pcap: &str) {
         let mut xyz = [0.0f64; 3];
         for r in 0..f.rows {
             for c in 0..f.cols {
-                if let Some(p) = lut.point(r, c, f.range_mm[r * f.cols + c]) {
+                if let Some(p) = lut.point(r, c, f.range_mm[c * f.rows + r]) {
                     (0..3).for_each(|k| xyz[k] += p[k]);
                 }
             }

@@ -6,11 +6,32 @@ use std::sync::Arc;
 
 use keylo_core::{BeamGeometry, LidarFrame};
 use nalgebra::Point3;
+use rayon::prelude::*;
 
 use super::metadata::OusterMetadata;
 use super::packet::RawFrame;
 use super::xyz::XyzLut;
 use crate::cloud::organised::column_times;
+
+/// The staggered channels one frame is destaggered from.
+struct Staggered<'a> {
+    range: &'a [u32],
+    signal: &'a [u32],
+    reflectivity: &'a [u32],
+    raw: &'a RawFrame,
+    times: &'a [f64],
+}
+
+/// One destaggered row of every output grid.
+struct RowOut<'a> {
+    range: &'a mut [f32],
+    signal: &'a mut [f32],
+    reflectivity: &'a mut [f32],
+    near_ir: &'a mut [f32],
+    points: &'a mut [Point3<f32>],
+    valid: &'a mut [bool],
+    times: &'a mut [f64],
+}
 
 /// Which return of a dual-return profile fills the frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -68,12 +89,6 @@ impl Destaggerer {
         }
     }
 
-    /// The staggered column that destaggered pixel `(row, col)` comes from.
-    #[inline]
-    fn source_column(&self, row: usize, col: usize) -> usize {
-        (col + self.cols - self.shifts[row]) % self.cols
-    }
-
     /// The destaggered frame of `raw`, numbered `index`. Pixels of missing columns and
     /// pixels without a return (range 0) are invalid. Range is in metres.
     pub fn frame(&self, raw: &RawFrame, index: u64, which: Return) -> LidarFrame {
@@ -92,28 +107,65 @@ impl Destaggerer {
             self.cols,
             Arc::clone(&self.beams),
         );
-        let mut pixel_times = vec![timestamp; self.rows * self.cols];
-        for r in 0..self.rows {
-            for c in 0..self.cols {
-                let m = self.source_column(r, c);
-                let (src, dst) = (r * self.cols + m, r * self.cols + c);
-                pixel_times[dst] = staggered_times[m];
-                f.signal[dst] = signal[src] as f32;
-                f.reflectivity[dst] = reflectivity[src] as f32;
-                f.near_ir[dst] = raw.near_ir[src] as f32;
-                let Some(p) = self.lut.point(r, m, range[src]) else {
-                    continue;
+        let mut pixel_times = vec![0.0; self.rows * self.cols];
+        let input = Staggered {
+            range,
+            signal,
+            reflectivity,
+            raw,
+            times: &staggered_times,
+        };
+        // Rows are independent: destagger them in parallel, each into its own output rows.
+        let cols = self.cols;
+        f.range
+            .par_chunks_mut(cols)
+            .zip(f.signal.par_chunks_mut(cols))
+            .zip(f.reflectivity.par_chunks_mut(cols))
+            .zip(f.near_ir.par_chunks_mut(cols))
+            .zip(f.points.par_chunks_mut(cols))
+            .zip(f.valid.par_chunks_mut(cols))
+            .zip(pixel_times.par_chunks_mut(cols))
+            .enumerate()
+            .for_each(|(r, ((((((rg, sg), rf), nir), pts), ok), t))| {
+                let out = RowOut {
+                    range: rg,
+                    signal: sg,
+                    reflectivity: rf,
+                    near_ir: nir,
+                    points: pts,
+                    valid: ok,
+                    times: t,
                 };
-                f.range[dst] = range[src] as f32 * 1e-3;
-                f.points[dst] = Point3::new(p.x as f32, p.y as f32, p.z as f32);
-                f.valid[dst] = raw.column_valid[m];
-            }
-        }
+                self.row(r, &input, out);
+            });
         f.column_times = (0..self.cols)
             .map(|c| staggered_times[(c + self.cols - self.median_shift) % self.cols])
             .collect();
         f.pixel_times = Some(pixel_times);
         f
+    }
+
+    /// Destaggers row `r`: destaggered column `c` is staggered column `c - shift` (mod cols).
+    fn row(&self, r: usize, input: &Staggered, out: RowOut) {
+        let shift = self.shifts[r];
+        for c in 0..self.cols {
+            let m = if c >= shift {
+                c - shift
+            } else {
+                c + self.cols - shift
+            };
+            let src = m * self.rows + r;
+            out.times[c] = input.times[m];
+            out.signal[c] = input.signal[src] as f32;
+            out.reflectivity[c] = input.reflectivity[src] as f32;
+            out.near_ir[c] = input.raw.near_ir[src] as f32;
+            let range = input.range[src];
+            if let Some([x, y, z]) = self.lut.point_f32(r, m, range) {
+                out.range[c] = range as f32 * 1e-3;
+                out.points[c] = Point3::new(x, y, z);
+                out.valid[c] = input.raw.column_valid[m];
+            }
+        }
     }
 
     /// Seconds of every staggered column; missing columns interpolated from their neighbours.

@@ -4,7 +4,8 @@
 
 use super::metadata::{OusterMetadata, UdpProfile};
 
-/// The staggered channels of one frame as the packets carry them (row-major, `rows × cols`).
+/// The staggered channels of one frame as the packets carry them: column-major (pixel
+/// `(row, column)` at `column * rows + row`), the order packets hold them in.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RawFrame {
     pub frame_id: u32,
@@ -136,11 +137,14 @@ impl PacketFormat {
     /// Copies the packet's columns into `frame`. Columns with an invalid status or a
     /// measurement id outside the frame are skipped, as ouster-sdk does.
     pub fn decode_into(&self, p: &[u8], frame: &mut RawFrame) {
-        for k in 0..self.columns_per_packet {
-            let col = &p[self.header + k * self.column_size()..][..self.column_size()];
+        let size = self.column_size();
+        let columns = p[self.header..]
+            .chunks_exact(size)
+            .take(self.columns_per_packet);
+        for col in columns {
             let m = usize::from(le16(col, 8));
             let valid = match self.profile {
-                UdpProfile::Legacy => le32(col, self.column_size() - 4) == 0xFFFF_FFFF,
+                UdpProfile::Legacy => le32(col, size - 4) == 0xFFFF_FFFF,
                 _ => le16(col, 10) & 1 == 1,
             };
             if !valid {
@@ -152,46 +156,60 @@ impl PacketFormat {
             }
             frame.column_ns[m] = le64(col, 0);
             frame.column_valid[m] = true;
-            for r in 0..self.rows {
-                let px = &col[self.column_header + r * self.pixel..][..self.pixel];
-                self.decode_pixel(px, r * self.cols + m, frame);
-            }
+            let pixels = &col[self.column_header..self.column_header + self.rows * self.pixel];
+            self.decode_column(pixels, m, frame);
         }
     }
 
-    #[inline]
-    fn decode_pixel(&self, px: &[u8], i: usize, f: &mut RawFrame) {
+    /// The pixels of one column (`rows × pixel` bytes) into column `m` of `f` (contiguous,
+    /// as the frame is column-major), one loop per
+    /// profile so the per-pixel work has no branch.
+    fn decode_column(&self, pixels: &[u8], m: usize, f: &mut RawFrame) {
+        let base = m * self.rows;
+        let px = pixels.chunks_exact(self.pixel).enumerate();
         match self.profile {
             UdpProfile::Legacy => {
-                f.range_mm[i] = le32(px, 0) & 0x000F_FFFF;
-                // 16 bits on the wire, of which ouster-sdk reads the low 8 (calibrated 0..255).
-                f.reflectivity[i] = u32::from(px[4]);
-                f.signal[i] = u32::from(le16(px, 6));
-                f.near_ir[i] = u32::from(le16(px, 8));
+                for (r, px) in px {
+                    let i = base + r;
+                    f.range_mm[i] = le32(px, 0) & 0x000F_FFFF;
+                    // 16 bits on the wire, of which ouster-sdk reads the low 8 (calibrated 0..255).
+                    f.reflectivity[i] = u32::from(px[4]);
+                    f.signal[i] = u32::from(le16(px, 6));
+                    f.near_ir[i] = u32::from(le16(px, 8));
+                }
             }
             UdpProfile::Rng19Rfl8Sig16Nir16 => {
-                f.range_mm[i] = le32(px, 0) & 0x0007_FFFF;
-                // 16 bits on the wire, of which ouster-sdk reads the low 8 (calibrated 0..255).
-                f.reflectivity[i] = u32::from(px[4]);
-                f.signal[i] = u32::from(le16(px, 6));
-                f.near_ir[i] = u32::from(le16(px, 8));
+                for (r, px) in px {
+                    let i = base + r;
+                    f.range_mm[i] = le32(px, 0) & 0x0007_FFFF;
+                    // 16 bits on the wire, of which ouster-sdk reads the low 8 (calibrated 0..255).
+                    f.reflectivity[i] = u32::from(px[4]);
+                    f.signal[i] = u32::from(le16(px, 6));
+                    f.near_ir[i] = u32::from(le16(px, 8));
+                }
             }
             UdpProfile::Rng19Rfl8Sig16Nir16Dual => {
-                f.range_mm[i] = le32(px, 0) & 0x0007_FFFF;
-                f.reflectivity[i] = u32::from(px[3]);
-                f.range2_mm[i] = le32(px, 4) & 0x0007_FFFF;
-                f.reflectivity2[i] = u32::from(px[7]);
-                f.signal[i] = u32::from(le16(px, 8));
-                f.signal2[i] = u32::from(le16(px, 10));
-                f.near_ir[i] = u32::from(le16(px, 12));
+                for (r, px) in px {
+                    let i = base + r;
+                    f.range_mm[i] = le32(px, 0) & 0x0007_FFFF;
+                    f.reflectivity[i] = u32::from(px[3]);
+                    f.range2_mm[i] = le32(px, 4) & 0x0007_FFFF;
+                    f.reflectivity2[i] = u32::from(px[7]);
+                    f.signal[i] = u32::from(le16(px, 8));
+                    f.signal2[i] = u32::from(le16(px, 10));
+                    f.near_ir[i] = u32::from(le16(px, 12));
+                }
             }
             UdpProfile::Rng15Rfl8Nir8 => {
-                f.range_mm[i] = u32::from(le16(px, 0) & 0x7FFF) * 8;
-                f.reflectivity[i] = u32::from(px[2]);
-                // 8 bits on the wire, scaled by 16 as ouster-sdk does (NEAR_IR shift -4).
-                f.near_ir[i] = u32::from(px[3]) << 4;
+                for (r, px) in px {
+                    let i = base + r;
+                    f.range_mm[i] = u32::from(le16(px, 0) & 0x7FFF) * 8;
+                    f.reflectivity[i] = u32::from(px[2]);
+                    // 8 bits on the wire, scaled by 16 as ouster-sdk does (NEAR_IR shift -4).
+                    f.near_ir[i] = u32::from(px[3]) << 4;
+                }
             }
-            _ => {}
+            UdpProfile::Other(_) => {}
         }
     }
 }
