@@ -11,6 +11,11 @@ use std::time::Instant;
 use keylo_core::{BuildContext, ImageSource};
 use keylo_io::ouster::{OusterSource, OusterSourceConfig, PartialFrames};
 
+// The allocator the `keylo` binary uses: frames are large, short-lived buffers, which glibc's
+// malloc hands back to the kernel and faults in again for every frame.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let pcap = args
