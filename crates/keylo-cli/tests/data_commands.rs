@@ -151,7 +151,7 @@ fn convert_writes_every_format_with_times() {
     assert_eq!(info["frames"], 3);
     // KITTI .bin: 16 bytes per point.
     let bin = std::fs::read(tmp.path().join("kitti-bin/velodyne/000000.bin")).unwrap();
-    assert!(bin.len() % 16 == 0 && bin.len() > 16 * 50_000);
+    assert!(bin.len().is_multiple_of(16) && bin.len() > 16 * 50_000);
     // PCD header lists the default channels.
     let pcd = std::fs::read(tmp.path().join("pcd/000000.pcd")).unwrap();
     let header = String::from_utf8_lossy(&pcd[..300]);

@@ -12,6 +12,7 @@ pub fn keylo(args: &[&str], cwd: &Path) -> Output {
 }
 
 /// Runs `keylo` with a whitespace-separated argument line (test paths hold no spaces).
+#[allow(dead_code)]
 pub fn keylo_line(line: &str, cwd: &Path) -> Output {
     let args: Vec<&str> = line.split_whitespace().collect();
     keylo(&args, cwd)
