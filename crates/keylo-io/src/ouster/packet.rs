@@ -168,20 +168,16 @@ impl PacketFormat {
         let base = m * self.rows;
         let px = pixels.chunks_exact(self.pixel).enumerate();
         match self.profile {
-            UdpProfile::Legacy => {
+            UdpProfile::Legacy | UdpProfile::Rng19Rfl8Sig16Nir16 => {
+                // Same layout; LEGACY's range field is 20 bits wide, RNG19's 19.
+                let range_mask = if self.profile == UdpProfile::Legacy {
+                    0x000F_FFFF
+                } else {
+                    0x0007_FFFF
+                };
                 for (r, px) in px {
                     let i = base + r;
-                    f.range_mm[i] = le32(px, 0) & 0x000F_FFFF;
-                    // 16 bits on the wire, of which ouster-sdk reads the low 8 (calibrated 0..255).
-                    f.reflectivity[i] = u32::from(px[4]);
-                    f.signal[i] = u32::from(le16(px, 6));
-                    f.near_ir[i] = u32::from(le16(px, 8));
-                }
-            }
-            UdpProfile::Rng19Rfl8Sig16Nir16 => {
-                for (r, px) in px {
-                    let i = base + r;
-                    f.range_mm[i] = le32(px, 0) & 0x0007_FFFF;
+                    f.range_mm[i] = le32(px, 0) & range_mask;
                     // 16 bits on the wire, of which ouster-sdk reads the low 8 (calibrated 0..255).
                     f.reflectivity[i] = u32::from(px[4]);
                     f.signal[i] = u32::from(le16(px, 6));
