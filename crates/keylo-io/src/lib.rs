@@ -6,9 +6,14 @@
 
 pub mod cloud;
 mod error;
+pub mod folder;
 pub mod frames;
+pub mod kitti;
 pub mod kitti_bin;
 pub mod ouster;
+pub mod pcd;
+pub mod ply;
+pub mod point_files;
 pub mod select;
 
 pub use error::IoError;
@@ -24,7 +29,7 @@ pub fn remove_files_with_extension(dir: &std::path::Path, ext: &str) -> Result<(
     Ok(())
 }
 
-/// Registers source kind `frames` and its `--data` probe.
+/// Registers the source kinds `frames`, `kitti`, `ply` and `pcd` and their `--data` probes.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.sources.add::<frames::FramesSourceConfig>(
         "frames",
@@ -32,4 +37,34 @@ pub fn register(registry: &mut keylo_core::Registry) {
         |c, ctx| Ok(Box::new(frames::FramesSource::open(&c, ctx)?)),
     );
     registry.add_source_probe("frames", frames::is_frames_dir);
+    registry.sources.add::<kitti::KittiSourceConfig>(
+        "kitti",
+        "a KITTI odometry folder (velodyne/*.bin, times.txt, calib.txt; poses as LiDAR ground truth)",
+        |c, ctx| Ok(Box::new(kitti::KittiSource::open(&c, ctx)?)),
+    );
+    registry.add_source_probe("kitti", kitti::is_kitti_data);
+    registry.sources.add::<point_files::PlySourceConfig>(
+        "ply",
+        "a folder of .ply point files (ascii or binary), one per frame",
+        |c, ctx| {
+            Ok(Box::new(point_files::PointFilesSource::open(
+                point_files::PointFormat::Ply,
+                &c,
+                ctx,
+            )?))
+        },
+    );
+    registry.add_source_probe("ply", point_files::is_ply_data);
+    registry.sources.add::<point_files::PcdSourceConfig>(
+        "pcd",
+        "a folder of .pcd point files (ascii, binary or binary_compressed), one per frame",
+        |c, ctx| {
+            Ok(Box::new(point_files::PointFilesSource::open(
+                point_files::PointFormat::Pcd,
+                &c,
+                ctx,
+            )?))
+        },
+    );
+    registry.add_source_probe("pcd", point_files::is_pcd_data);
 }
