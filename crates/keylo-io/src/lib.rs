@@ -46,25 +46,13 @@ pub fn register(registry: &mut keylo_core::Registry) {
     registry.sources.add::<point_files::PlySourceConfig>(
         "ply",
         "a folder of .ply point files (ascii or binary), one per frame",
-        |c, ctx| {
-            Ok(Box::new(point_files::PointFilesSource::open(
-                point_files::PointFormat::Ply,
-                &c,
-                ctx,
-            )?))
-        },
+        point_files::build_ply,
     );
     registry.add_source_probe("ply", point_files::is_ply_data);
     registry.sources.add::<point_files::PcdSourceConfig>(
         "pcd",
         "a folder of .pcd point files (ascii, binary or binary_compressed), one per frame",
-        |c, ctx| {
-            Ok(Box::new(point_files::PointFilesSource::open(
-                point_files::PointFormat::Pcd,
-                &c,
-                ctx,
-            )?))
-        },
+        point_files::build_pcd,
     );
     registry.add_source_probe("pcd", point_files::is_pcd_data);
 }

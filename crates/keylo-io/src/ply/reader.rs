@@ -117,10 +117,10 @@ fn read_elements<E: PropertyAccess>(
             }
             Encoding::BinaryLittleEndian => parser
                 .read_little_endian_element(reader.get_mut(), element)
-                .map_err(|e| one_line(&e)),
+                .map_err(|e| binary_error(&e)),
             Encoding::BinaryBigEndian => parser
                 .read_big_endian_element(reader.get_mut(), element)
-                .map_err(|e| one_line(&e)),
+                .map_err(|e| binary_error(&e)),
         };
         match result {
             Ok(e) => each(&e),
@@ -133,6 +133,14 @@ fn read_elements<E: PropertyAccess>(
         }
     }
     Ok(())
+}
+
+fn binary_error(e: &ply_rs_bw::parser::ParseError) -> String {
+    if e.kind() == std::io::ErrorKind::UnexpectedEof {
+        "the file ends here".to_string()
+    } else {
+        one_line(e)
+    }
 }
 
 /// A library message on one line (ply-rs puts details on indented extra lines).

@@ -19,3 +19,27 @@ pub fn is_ply_data(path: &std::path::Path) -> bool {
 pub fn is_pcd_data(path: &std::path::Path) -> bool {
     PointFormat::Pcd.probe(path)
 }
+
+/// Builds a `kind = "ply"` source (the registry's constructor).
+pub fn build_ply(
+    config: PlySourceConfig,
+    ctx: &keylo_core::BuildContext,
+) -> Result<Box<dyn keylo_core::ImageSource>, keylo_core::CoreError> {
+    Ok(Box::new(PointFilesSource::open(
+        PointFormat::Ply,
+        &config,
+        ctx,
+    )?))
+}
+
+/// Builds a `kind = "pcd"` source (the registry's constructor).
+pub fn build_pcd(
+    config: PcdSourceConfig,
+    ctx: &keylo_core::BuildContext,
+) -> Result<Box<dyn keylo_core::ImageSource>, keylo_core::CoreError> {
+    Ok(Box::new(PointFilesSource::open(
+        PointFormat::Pcd,
+        &config,
+        ctx,
+    )?))
+}
