@@ -24,7 +24,7 @@ impl FrameSelection {
 
     /// Whether stored frame `i` is read.
     pub fn wants(&self, i: usize) -> bool {
-        i >= self.start && (i - self.start) % self.stride == 0 && !self.past_end(i)
+        i >= self.start && (i - self.start).is_multiple_of(self.stride) && !self.past_end(i)
     }
 
     /// True once no frame at or after `i` can be wanted (the reader may stop).

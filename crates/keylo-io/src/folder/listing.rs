@@ -160,7 +160,7 @@ mod tests {
         assert_eq!(s("1698412345.pcd"), Some(1698412345.0));
         assert_eq!(s("1698412345123.pcd"), Some(1698412345.123));
         let ns = s("1698412345123456789.pcd").unwrap_or_default();
-        assert!((ns - 1698412345.123456789).abs() < 1e-6);
+        assert!((ns - 1_698_412_345.123_456_7).abs() < 1e-6);
         assert_eq!(s("1.2.3.pcd"), None);
         assert_eq!(s(".5.pcd"), None);
     }

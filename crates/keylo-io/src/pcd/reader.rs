@@ -121,7 +121,7 @@ fn check_body(meta: &PcdMeta, body: &[u8]) -> Result<(), String> {
         .map(|f| f.kind.byte_size() as u64 * f.count)
         .sum();
     let points = meta.num_points;
-    let need = points.checked_mul(record).unwrap_or(u64::MAX);
+    let need = points.saturating_mul(record);
     let have = body.len() as u64;
     match meta.data {
         DataKind::Ascii => Ok(()),
