@@ -20,7 +20,7 @@ pub struct PointFilesConfig {
     /// Files to read at most; 0 = all.
     pub max_frames: usize,
     /// Frames per second. Frame times are `index / frame_rate_hz` unless every file name is a
-    /// time stamp (`1698412345.123456.pcd`: seconds; an integer of 9+ digits: s, ms, µs or ns
+    /// time stamp (`1698412345.123456.pcd`: seconds; an integer from 1e8 up: s, ms, µs or ns
     /// by magnitude).
     pub frame_rate_hz: f64,
     /// Unit of the per-point time field (`t`, `time` or `timestamp`): `auto`, `s`, `us` or
