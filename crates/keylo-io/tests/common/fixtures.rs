@@ -38,8 +38,8 @@ pub fn sample(n: usize) -> Vec<Pt> {
                 intensity: 10.5 + i as f32,
                 t: (i as u64 * 99_000_000 / (n as u64 - 1).max(1)) as u32,
                 ring: (i % 4) as u16,
-                reflectivity: 100 + i as u16,
-                ambient: 7 * i as u16,
+                reflectivity: (100 + i % 1000) as u16,
+                ambient: (7 * (i % 1000)) as u16,
                 range: (r * 1000.0).round() as u32,
                 curvature: 0.5,
             }
