@@ -128,6 +128,11 @@ fn organised_pcd_folders_keep_the_grid_and_single_files_work() {
         &format!("path = {}\nframe_rate_hz = 20", lit(dir.path())),
     )
     .unwrap();
+    let info = src.info().description;
+    assert!(
+        info.contains("index / 20 Hz") && info.contains("fields not read: curvature"),
+        "{info}"
+    );
     let f = frames(src.as_mut()).unwrap();
     assert_eq!(f.len(), 3);
     assert_eq!(f[2].timestamp, 0.1);
