@@ -7,9 +7,14 @@
 pub mod cloud;
 mod error;
 pub mod export;
+pub mod folder;
 pub mod frames;
+pub mod kitti;
 pub mod kitti_bin;
 pub mod ouster;
+pub mod pcd;
+pub mod ply;
+pub mod point_files;
 pub mod select;
 
 pub use error::IoError;
@@ -39,4 +44,22 @@ pub fn register(registry: &mut keylo_core::Registry) {
         |c, ctx| Ok(Box::new(ouster::OusterSource::open(&c, ctx)?)),
     );
     registry.add_source_probe("ouster", ouster::is_pcap);
+    registry.sources.add::<kitti::KittiSourceConfig>(
+        "kitti",
+        "a KITTI odometry folder (velodyne/*.bin, times.txt, calib.txt; poses as LiDAR ground truth)",
+        |c, ctx| Ok(Box::new(kitti::KittiSource::open(&c, ctx)?)),
+    );
+    registry.add_source_probe("kitti", kitti::is_kitti_data);
+    registry.sources.add::<point_files::PlySourceConfig>(
+        "ply",
+        "a folder of .ply point files (ascii or binary), one per frame",
+        point_files::build_ply,
+    );
+    registry.add_source_probe("ply", point_files::is_ply_data);
+    registry.sources.add::<point_files::PcdSourceConfig>(
+        "pcd",
+        "a folder of .pcd point files (ascii, binary or binary_compressed), one per frame",
+        point_files::build_pcd,
+    );
+    registry.add_source_probe("pcd", point_files::is_pcd_data);
 }

@@ -1,0 +1,91 @@
+//! Clouds become frames: organised clouds pixel for pixel, the others by spherical
+//! projection.
+
+use std::sync::Arc;
+
+use keylo_core::{BeamGeometry, LidarFrame};
+
+use crate::cloud::{organised, ProjectionConfig, Projector, RawCloud};
+
+/// Turns the clouds of one sequence into frames.
+#[derive(Debug, Clone)]
+pub struct Framer {
+    config: ProjectionConfig,
+    model: String,
+    projector: Projector,
+    /// Beams of organised clouds, per grid shape seen last.
+    organised: Option<((usize, usize), Arc<BeamGeometry>)>,
+}
+
+impl Framer {
+    /// A framer for `config` (validated); `model` names the sensor in the frames' beams.
+    pub fn new(config: ProjectionConfig, model: &str) -> Result<Self, String> {
+        let projector = Projector::new(config.clone(), model)?;
+        Ok(Self {
+            config,
+            model: model.to_string(),
+            projector,
+            organised: None,
+        })
+    }
+
+    /// The frame of `cloud` (organised when `cloud.grid` is set); the error says which field
+    /// is inconsistent.
+    pub fn frame(&mut self, cloud: &RawCloud, index: u64) -> Result<LidarFrame, String> {
+        match cloud.grid {
+            Some((rows, cols)) => {
+                cloud.check()?;
+                let beams = self.organised_beams(rows, cols)?;
+                Ok(organised::to_frame(cloud, rows, cols, index, beams))
+            }
+            None => self.projector.project(cloud, index),
+        }
+    }
+
+    /// Beams of a `rows × cols` organised grid: the projection's beam table when it has
+    /// `rows` entries, else `rows` beams spread evenly over its field of view.
+    fn organised_beams(&mut self, rows: usize, cols: usize) -> Result<Arc<BeamGeometry>, String> {
+        if let Some((shape, beams)) = &self.organised {
+            if *shape == (rows, cols) {
+                return Ok(Arc::clone(beams));
+            }
+        }
+        let mut config = ProjectionConfig {
+            rows,
+            cols,
+            ..self.config.clone()
+        };
+        if config.altitudes_deg.len() != rows {
+            config.altitudes_deg.clear();
+        }
+        let beams = Arc::clone(Projector::new(config, &self.model)?.beams());
+        self.organised = Some(((rows, cols), Arc::clone(&beams)));
+        Ok(beams)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn organised_clouds_keep_their_grid_and_others_are_projected() {
+        let mut f = Framer::new(ProjectionConfig::default(), "t").unwrap();
+        let cloud = RawCloud {
+            points: vec![[1.0, 0.0, 0.0]; 6],
+            grid: Some((2, 3)),
+            ..RawCloud::default()
+        };
+        let frame = f.frame(&cloud, 3).unwrap();
+        assert_eq!((frame.rows, frame.cols, frame.index), (2, 3, 3));
+        assert_eq!(frame.beams.altitude_deg, vec![3.0, -25.0]);
+        assert!(frame.index_map.is_none());
+        let loose = RawCloud {
+            grid: None,
+            ..cloud
+        };
+        let frame = f.frame(&loose, 4).unwrap();
+        assert_eq!((frame.rows, frame.cols), (64, 1024));
+        assert!(frame.index_map.is_some());
+    }
+}
