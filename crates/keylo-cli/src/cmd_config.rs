@@ -2,7 +2,9 @@ use std::fmt::Write;
 use std::process::ExitCode;
 
 use anyhow::Result;
-use keylo::config::{allowed_values, render_resolved, OutputConfig, STAGE_DEFAULT_KINDS};
+use keylo::config::{
+    allowed_values, render_resolved, resolve_ref, OutputConfig, STAGE_DEFAULT_KINDS,
+};
 use keylo::Registry;
 use serde_json::Value;
 
@@ -74,7 +76,12 @@ fn params_table(out: &mut String, schema: &Value, defaults: &toml::Table) {
         return;
     }
     out.push_str("| key | default | meaning |\n|---|---|---|\n");
-    let props = schema.get("properties");
+    param_rows(out, "", schema, schema, defaults);
+}
+
+/// One row per key; a nested table's keys follow as `table.key` rows.
+fn param_rows(out: &mut String, prefix: &str, node: &Value, root: &Value, defaults: &toml::Table) {
+    let props = resolve_ref(node, root).get("properties");
     for (key, value) in defaults {
         let field = props.and_then(|p| p.get(key)).unwrap_or(&Value::Null);
         let doc = field
@@ -82,7 +89,7 @@ fn params_table(out: &mut String, schema: &Value, defaults: &toml::Table) {
             .and_then(Value::as_str)
             .unwrap_or("")
             .replace('\n', " ");
-        let allowed: Vec<String> = allowed_values(field, schema)
+        let allowed: Vec<String> = allowed_values(field, root)
             .iter()
             .map(|v| format!("`{v}`"))
             .collect();
@@ -91,10 +98,11 @@ fn params_table(out: &mut String, schema: &Value, defaults: &toml::Table) {
         } else {
             format!("{doc} Allowed: {}.", allowed.join(", "))
         };
-        let shown = match value {
-            toml::Value::Table(_) => "(table)".to_string(),
-            v => v.to_string(),
-        };
-        let _ = writeln!(out, "| `{key}` | `{shown}` | {doc} |");
+        if let toml::Value::Table(sub) = value {
+            let _ = writeln!(out, "| `{prefix}{key}` | (table) | {doc} |");
+            param_rows(out, &format!("{prefix}{key}."), field, root, sub);
+        } else {
+            let _ = writeln!(out, "| `{prefix}{key}` | `{value}` | {doc} |");
+        }
     }
 }
