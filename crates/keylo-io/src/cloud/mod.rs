@@ -5,6 +5,7 @@
 
 pub mod organised;
 pub mod projection;
+mod projection_config;
 mod raw;
 
 pub use projection::{ProjectionConfig, Projector, RowSource};
