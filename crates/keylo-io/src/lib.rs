@@ -9,6 +9,7 @@ mod error;
 pub mod frames;
 pub mod kitti_bin;
 pub mod ouster;
+pub mod ros;
 pub mod select;
 
 pub use error::IoError;

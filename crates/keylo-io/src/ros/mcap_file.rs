@@ -1,0 +1,410 @@
+//! MCAP files with the `mcap` crate's streaming (sans-io) readers; nothing is memory-mapped.
+//!
+//! With a summary (the normal case) the chunk indexes drive a lazy log-time merge: a chunk is
+//! read, CRC-checked and decompressed when its messages are next. Without one (a truncated file,
+//! a writer that was killed) the file is scanned once for channels and counts and then read in
+//! file order; the scan stops at the first damage, and everything before it stays readable.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+use mcap::records::{op, Record};
+use mcap::sans_io::{LinearReaderOptions, SummaryReadEvent, SummaryReader, SummaryReaderOptions};
+use mcap::{read::ChunkReader, Message, Summary};
+
+use super::file::{ChannelInfo, MessageFile, StoredMessage};
+use super::merge::{ChunkSpan, TimeMerge};
+use super::wire::Encoding;
+use crate::IoError;
+
+/// Largest record or chunk read (compressed or not); a corrupt length beyond it is an error
+/// instead of an allocation.
+const RECORD_LIMIT: usize = 512 << 20;
+
+/// An indexed chunk: where it is and which channels it holds.
+struct IndexedChunk {
+    span: ChunkSpan,
+    length: u64,
+    channels: Vec<u16>,
+}
+
+enum Mode {
+    Indexed {
+        chunks: Vec<IndexedChunk>,
+        merge: TimeMerge,
+    },
+    Linear {
+        stream: Option<Linear>,
+    },
+}
+
+/// The file and what is read from its chunks.
+struct Source {
+    path: PathBuf,
+    file: BufReader<File>,
+    len: u64,
+    wanted: Vec<u32>,
+}
+
+/// An open MCAP file.
+pub(crate) struct McapFile {
+    src: Source,
+    channels: Vec<ChannelInfo>,
+    time_range: Option<(u64, u64)>,
+    note: Option<String>,
+    /// Damage found by the scan (reported after the last message of an indexed read).
+    damage: Option<String>,
+    mode: Mode,
+    /// An error still to report once the current read runs out.
+    deferred: Option<String>,
+}
+
+impl McapFile {
+    /// Opens a file and reads its summary (or scans it when it has none).
+    pub fn open(path: &Path) -> Result<Self, IoError> {
+        let f = File::open(path).map_err(|e| IoError::io(path, e))?;
+        let len = f.metadata().map_err(|e| IoError::io(path, e))?.len();
+        let mut file = BufReader::new(f);
+        let summary = read_summary(&mut file, len);
+        let mut me = Self {
+            src: Source {
+                path: path.to_path_buf(),
+                file,
+                len,
+                wanted: Vec::new(),
+            },
+            channels: Vec::new(),
+            time_range: None,
+            note: None,
+            damage: None,
+            mode: Mode::Linear { stream: None },
+            deferred: None,
+        };
+        match summary {
+            Ok(Some(s)) if !s.chunk_indexes.is_empty() => me.use_summary(&s),
+            Ok(Some(_)) => me.scan("no chunk index (unchunked file)")?,
+            Ok(None) => me.scan("no summary section")?,
+            Err(e) => me.scan(&format!("summary unreadable ({e})"))?,
+        }
+        Ok(me)
+    }
+
+    fn use_summary(&mut self, s: &Summary) {
+        let counts = s.stats.as_ref().map(|st| &st.channel_message_counts);
+        self.channels = s
+            .channels
+            .values()
+            .map(|c| {
+                let count = counts.map(|m| m.get(&c.id).copied().unwrap_or(0));
+                channel_info(c, count)
+            })
+            .collect();
+        self.channels.sort_by_key(|c| c.id);
+        let chunks: Vec<IndexedChunk> = s
+            .chunk_indexes
+            .iter()
+            .map(|c| IndexedChunk {
+                span: ChunkSpan {
+                    pos: c.chunk_start_offset,
+                    start: c.message_start_time,
+                    end: c.message_end_time,
+                },
+                length: c.chunk_length,
+                channels: c.message_index_offsets.keys().copied().collect(),
+            })
+            .collect();
+        self.time_range = match &s.stats {
+            Some(st) => Some((st.message_start_time, st.message_end_time)),
+            None => span_range(chunks.iter().map(|c| c.span)),
+        };
+        self.mode = Mode::Indexed {
+            chunks,
+            merge: TimeMerge::new(Vec::new()),
+        };
+    }
+
+    /// Lists channels and counts by reading the whole file once.
+    fn scan(&mut self, why: &str) -> Result<(), IoError> {
+        let mut stream = Linear::open(&self.src.path)?;
+        let mut found: BTreeMap<u16, ChannelInfo> = BTreeMap::new();
+        let mut times = Vec::new();
+        while let Some(next) = stream.next() {
+            match next {
+                Ok(m) => {
+                    let info = found
+                        .entry(m.channel.id)
+                        .or_insert_with(|| channel_info(&m.channel, Some(0)));
+                    info.count = info.count.map(|n| n + 1);
+                    times.push(m.log_time);
+                }
+                Err(e) => {
+                    self.damage = Some(e);
+                    break;
+                }
+            }
+        }
+        self.channels = found.into_values().collect();
+        self.time_range = times.iter().min().zip(times.iter().max()).map(|(a, b)| (*a, *b));
+        self.note = Some(format!("{why}; read in file order"));
+        Ok(())
+    }
+
+    fn next_indexed(&mut self) -> Option<Result<StoredMessage, IoError>> {
+        let Mode::Indexed { chunks, merge } = &mut self.mode else {
+            return None;
+        };
+        let src = &mut self.src;
+        merge.next(|span, out| {
+            let length = chunks
+                .iter()
+                .find(|c| c.span.pos == span.pos)
+                .map_or(0, |c| c.length);
+            src.load(span, length, out)
+        })
+    }
+
+    fn next_linear(&mut self) -> Option<Result<StoredMessage, IoError>> {
+        let Mode::Linear { stream: Some(s) } = &mut self.mode else {
+            return None;
+        };
+        loop {
+            match s.next()? {
+                Ok(m) => {
+                    let channel = u32::from(m.channel.id);
+                    if self.src.wanted.contains(&channel) {
+                        return Some(Ok(StoredMessage {
+                            channel,
+                            log_time: m.log_time,
+                            data: m.data.into_owned(),
+                        }));
+                    }
+                }
+                Err(e) => return Some(Err(IoError::format(&self.src.path, e))),
+            }
+        }
+    }
+}
+
+impl Source {
+    /// The selected messages of the chunk at `span.pos` (`length` bytes), CRC-checked.
+    fn load(
+        &mut self,
+        span: &ChunkSpan,
+        length: u64,
+        out: &mut Vec<StoredMessage>,
+    ) -> Result<(), IoError> {
+        let pos = span.pos;
+        let fail = |m: String| IoError::format(&self.path, format!("chunk at byte {pos}: {m}"));
+        if length > self.len.saturating_sub(pos) || length > RECORD_LIMIT as u64 || length < 9 {
+            return Err(fail(format!(
+                "the index gives {length} bytes but the file has {} bytes from there",
+                self.len.saturating_sub(pos)
+            )));
+        }
+        let mut buf = vec![0u8; length as usize];
+        self.file
+            .seek(SeekFrom::Start(pos))
+            .and_then(|_| self.file.read_exact(&mut buf))
+            .map_err(|e| IoError::io(&self.path, e))?;
+        if buf[0] != op::CHUNK {
+            return Err(fail(format!("expected a chunk record (opcode 0x06), found 0x{:02x}", buf[0])));
+        }
+        // The merge drops what a failed chunk pushed, so messages go out as they come; the
+        // CRC is checked once the chunk is read to its end.
+        let (header, data) = match mcap::parse_record(op::CHUNK, &buf[9..]) {
+            Ok(Record::Chunk { header, data }) => (header, data),
+            Ok(_) => return Err(fail("not a chunk record".into())),
+            Err(e) => return Err(fail(e.to_string())),
+        };
+        let reader = ChunkReader::new(header, &data).map_err(|e| fail(e.to_string()))?;
+        for record in reader {
+            if let Record::Message { header, data } = record.map_err(|e| fail(e.to_string()))? {
+                let channel = u32::from(header.channel_id);
+                if self.wanted.contains(&channel) {
+                    out.push(StoredMessage {
+                        channel,
+                        log_time: header.log_time,
+                        data: data.into_owned(),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn span_range(spans: impl Iterator<Item = ChunkSpan>) -> Option<(u64, u64)> {
+    spans.fold(None, |acc, s| match acc {
+        None => Some((s.start, s.end)),
+        Some((a, b)) => Some((a.min(s.start), b.max(s.end))),
+    })
+}
+
+fn channel_info(c: &mcap::Channel, count: Option<u64>) -> ChannelInfo {
+    ChannelInfo {
+        id: u32::from(c.id),
+        topic: c.topic.clone(),
+        msg_type: c.schema.as_ref().map(|s| s.name.clone()).unwrap_or_default(),
+        encoding: Encoding::from_mcap(&c.message_encoding),
+        encoding_name: c.message_encoding.clone(),
+        count,
+    }
+}
+
+/// The summary section through the sans-io reader (reads clamped to the file size).
+fn read_summary(file: &mut BufReader<File>, len: u64) -> Result<Option<Summary>, String> {
+    let options = SummaryReaderOptions::default()
+        .with_file_size(len)
+        .with_record_length_limit(RECORD_LIMIT);
+    let mut reader = SummaryReader::new_with_options(options);
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| e.to_string())? {
+            SummaryReadEvent::ReadRequest(need) => {
+                let n = file.read(reader.insert(need)).map_err(|e| e.to_string())?;
+                reader.notify_read(n);
+            }
+            SummaryReadEvent::SeekRequest(to) => {
+                let at = file.seek(to).map_err(|e| e.to_string())?;
+                reader.notify_seeked(at);
+            }
+        }
+    }
+    Ok(reader.finish())
+}
+
+/// Counts the bytes a reader has delivered (for error positions).
+struct Counted<R> {
+    inner: R,
+    read: Arc<AtomicU64>,
+}
+
+impl<R: Read> Read for Counted<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.read.fetch_add(n as u64, Ordering::Relaxed);
+        Ok(n)
+    }
+}
+
+/// Messages in file order, chunk CRCs checked before a chunk's messages come out.
+struct Linear {
+    reader: mcap::io::MessageReader<Counted<BufReader<File>>>,
+    read: Arc<AtomicU64>,
+    index: u64,
+}
+
+impl Linear {
+    fn open(path: &Path) -> Result<Self, IoError> {
+        let file = File::open(path).map_err(|e| IoError::io(path, e))?;
+        let options = LinearReaderOptions::default()
+            .with_prevalidate_chunk_crcs(true)
+            .with_validate_data_section_crc(true)
+            .with_record_length_limit(RECORD_LIMIT);
+        let read = Arc::new(AtomicU64::new(0));
+        let source = Counted {
+            inner: BufReader::new(file),
+            read: Arc::clone(&read),
+        };
+        Ok(Self {
+            reader: mcap::io::MessageReader::new_with_options(source, options),
+            read,
+            index: 0,
+        })
+    }
+
+    /// The next message; the error says after which message and near which byte.
+    fn next(&mut self) -> Option<Result<Message<'static>, String>> {
+        Some(match self.reader.next()? {
+            Ok(m) => {
+                self.index += 1;
+                Ok(m)
+            }
+            Err(e) => Err(format!(
+                "{e} (reading near byte {}, after message {} of the file; \
+                 the messages before it were read)",
+                self.read.load(Ordering::Relaxed),
+                self.index,
+            )),
+        })
+    }
+}
+
+impl MessageFile for McapFile {
+    fn path(&self) -> &Path {
+        &self.src.path
+    }
+
+    fn channels(&self) -> &[ChannelInfo] {
+        &self.channels
+    }
+
+    fn time_range(&self) -> Option<(u64, u64)> {
+        self.time_range
+    }
+
+    fn note(&self) -> Option<&str> {
+        self.note.as_deref()
+    }
+
+    fn damage(&self) -> Option<&str> {
+        self.damage.as_deref()
+    }
+
+    fn select(&mut self, channels: &[u32]) {
+        self.src.wanted = channels.to_vec();
+        match &mut self.mode {
+            Mode::Indexed { chunks, merge } => {
+                let spans = chunks
+                    .iter()
+                    .filter(|c| {
+                        c.channels.is_empty()
+                            || c.channels.iter().any(|id| channels.contains(&u32::from(*id)))
+                    })
+                    .map(|c| c.span)
+                    .collect();
+                *merge = TimeMerge::new(spans);
+                self.deferred = self.damage.clone();
+            }
+            // The stream reports its own damage when it reaches it.
+            Mode::Linear { stream } => match Linear::open(&self.src.path) {
+                Ok(s) => {
+                    *stream = Some(s);
+                    self.deferred = None;
+                }
+                Err(e) => {
+                    *stream = None;
+                    self.deferred = Some(e.to_string());
+                }
+            },
+        }
+    }
+
+    fn next_message(&mut self) -> Option<Result<StoredMessage, IoError>> {
+        let next = match self.mode {
+            Mode::Indexed { .. } => self.next_indexed(),
+            Mode::Linear { .. } => self.next_linear(),
+        };
+        match next {
+            Some(Err(e)) => {
+                self.deferred = None;
+                if let Mode::Linear { stream } = &mut self.mode {
+                    *stream = None;
+                }
+                Some(Err(e))
+            }
+            Some(ok) => Some(ok),
+            None => {
+                let damage = self.deferred.take()?;
+                Some(Err(IoError::format(&self.src.path, damage)))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "mcap_tests.rs"]
+mod tests;
