@@ -25,7 +25,7 @@ pub fn remove_files_with_extension(dir: &std::path::Path, ext: &str) -> Result<(
     Ok(())
 }
 
-/// Registers source kind `frames` and its `--data` probe.
+/// Registers source kinds `frames`, `ros1-bag` and `mcap` and their `--data` probes.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.sources.add::<frames::FramesSourceConfig>(
         "frames",
@@ -33,4 +33,16 @@ pub fn register(registry: &mut keylo_core::Registry) {
         |c, ctx| Ok(Box::new(frames::FramesSource::open(&c, ctx)?)),
     );
     registry.add_source_probe("frames", frames::is_frames_dir);
+    registry.sources.add::<ros::BagSourceConfig>(
+        "ros1-bag",
+        "a ROS1 .bag: sensor_msgs/PointCloud2 clouds (organised or projected), optional sensor_msgs/Image channels",
+        |c, ctx| Ok(Box::new(ros::BagSource::open(&c, ctx, ros::BagFormat::Ros1Bag)?)),
+    );
+    registry.sources.add::<ros::BagSourceConfig>(
+        "mcap",
+        "an MCAP file or ROS2 bag folder: sensor_msgs/PointCloud2 clouds (organised or projected), optional sensor_msgs/Image channels",
+        |c, ctx| Ok(Box::new(ros::BagSource::open(&c, ctx, ros::BagFormat::Mcap)?)),
+    );
+    registry.add_source_probe("ros1-bag", ros::is_ros1_bag);
+    registry.add_source_probe("mcap", ros::is_mcap);
 }

@@ -24,7 +24,7 @@ impl FrameSelection {
 
     /// Whether stored frame `i` is read.
     pub fn wants(&self, i: usize) -> bool {
-        i >= self.start && (i - self.start) % self.stride == 0 && !self.past_end(i)
+        i >= self.start && (i - self.start).is_multiple_of(self.stride) && !self.past_end(i)
     }
 
     /// True once no frame at or after `i` can be wanted (the reader may stop).
@@ -55,7 +55,10 @@ mod tests {
         assert_eq!(s.indices(20).unwrap(), vec![1, 3, 5]);
         assert!(s.past_end(7));
         assert!(!s.past_end(6));
-        assert_eq!(FrameSelection::new(0, 1, 0).unwrap().indices(3).unwrap(), vec![0, 1, 2]);
+        assert_eq!(
+            FrameSelection::new(0, 1, 0).unwrap().indices(3).unwrap(),
+            vec![0, 1, 2]
+        );
         assert!(s.indices(1).unwrap_err().contains("source.start"));
         assert!(FrameSelection::new(0, 0, 0).unwrap_err().contains("stride"));
     }

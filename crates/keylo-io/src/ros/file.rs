@@ -60,6 +60,8 @@ pub(crate) struct StoredMessage {
 pub(crate) trait MessageFile: Send {
     /// The file read.
     fn path(&self) -> &Path;
+    /// Its format.
+    fn format(&self) -> BagFormat;
     /// Every channel, in id order.
     fn channels(&self) -> &[ChannelInfo];
     /// First and last log time, nanoseconds, when known.
@@ -179,7 +181,10 @@ mod tests {
         let mcap = write("b", b"\x89MCAP0\r\nrest");
         assert_eq!(resolve(&mcap).unwrap().1, BagFormat::Mcap);
         let old = write("c.bag", b"#ROSBAG V1.2\n");
-        assert!(resolve(&old).unwrap_err().to_string().contains("old version"));
+        assert!(resolve(&old)
+            .unwrap_err()
+            .to_string()
+            .contains("old version"));
         let db3 = write("d.db3", b"SQLite format 3\0");
         assert!(resolve(&db3).unwrap_err().to_string().contains("db3"));
         let junk = write("e.bag", b"hi");
@@ -191,13 +196,22 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         assert!(!is_ros2_mcap_folder(dir.path()));
         std::fs::write(dir.path().join("metadata.yaml"), "x").unwrap();
-        assert!(resolve(dir.path()).unwrap_err().to_string().contains("no .mcap"));
+        assert!(resolve(dir.path())
+            .unwrap_err()
+            .to_string()
+            .contains("no .mcap"));
         std::fs::write(dir.path().join("a_0.mcap"), b"\x89MCAP0\r\n").unwrap();
         assert!(is_ros2_mcap_folder(dir.path()));
         let (file, format) = resolve(dir.path()).unwrap();
-        assert_eq!((file.file_name().unwrap(), format), ("a_0.mcap".as_ref(), BagFormat::Mcap));
+        assert_eq!(
+            (file.file_name().unwrap(), format),
+            ("a_0.mcap".as_ref(), BagFormat::Mcap)
+        );
         std::fs::write(dir.path().join("a_1.mcap"), b"").unwrap();
         assert!(!is_ros2_mcap_folder(dir.path()));
-        assert!(resolve(dir.path()).unwrap_err().to_string().contains("split"));
+        assert!(resolve(dir.path())
+            .unwrap_err()
+            .to_string()
+            .contains("split"));
     }
 }

@@ -110,10 +110,7 @@ mod tests {
             vec![513.0]
         );
         let f = 1.5f32.to_le_bytes();
-        assert_eq!(
-            pixels(&image("32FC1", 1, 4, false, &f)).unwrap(),
-            vec![1.5]
-        );
+        assert_eq!(pixels(&image("32FC1", 1, 4, false, &f)).unwrap(), vec![1.5]);
     }
 
     #[test]

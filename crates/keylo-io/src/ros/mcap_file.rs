@@ -9,21 +9,15 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Arc;
 
 use mcap::records::{op, Record};
-use mcap::sans_io::{LinearReaderOptions, SummaryReadEvent, SummaryReader, SummaryReaderOptions};
-use mcap::{read::ChunkReader, Message, Summary};
+use mcap::{read::ChunkReader, Summary};
 
-use super::file::{ChannelInfo, MessageFile, StoredMessage};
+use super::file::{BagFormat, ChannelInfo, MessageFile, StoredMessage};
+use super::mcap_stream::{read_summary, Linear, RECORD_LIMIT};
 use super::merge::{ChunkSpan, TimeMerge};
 use super::wire::Encoding;
 use crate::IoError;
-
-/// Largest record or chunk read (compressed or not); a corrupt length beyond it is an error
-/// instead of an allocation.
-const RECORD_LIMIT: usize = 512 << 20;
 
 /// An indexed chunk: where it is and which channels it holds.
 struct IndexedChunk {
@@ -38,7 +32,7 @@ enum Mode {
         merge: TimeMerge,
     },
     Linear {
-        stream: Option<Linear>,
+        stream: Option<Box<Linear>>,
     },
 }
 
@@ -148,7 +142,11 @@ impl McapFile {
             }
         }
         self.channels = found.into_values().collect();
-        self.time_range = times.iter().min().zip(times.iter().max()).map(|(a, b)| (*a, *b));
+        self.time_range = times
+            .iter()
+            .min()
+            .zip(times.iter().max())
+            .map(|(a, b)| (*a, *b));
         self.note = Some(format!("{why}; read in file order"));
         Ok(())
     }
@@ -211,7 +209,10 @@ impl Source {
             .and_then(|_| self.file.read_exact(&mut buf))
             .map_err(|e| IoError::io(&self.path, e))?;
         if buf[0] != op::CHUNK {
-            return Err(fail(format!("expected a chunk record (opcode 0x06), found 0x{:02x}", buf[0])));
+            return Err(fail(format!(
+                "expected a chunk record (opcode 0x06), found 0x{:02x}",
+                buf[0]
+            )));
         }
         // The merge drops what a failed chunk pushed, so messages go out as they come; the
         // CRC is checked once the chunk is read to its end.
@@ -248,94 +249,24 @@ fn channel_info(c: &mcap::Channel, count: Option<u64>) -> ChannelInfo {
     ChannelInfo {
         id: u32::from(c.id),
         topic: c.topic.clone(),
-        msg_type: c.schema.as_ref().map(|s| s.name.clone()).unwrap_or_default(),
+        msg_type: c
+            .schema
+            .as_ref()
+            .map(|s| s.name.clone())
+            .unwrap_or_default(),
         encoding: Encoding::from_mcap(&c.message_encoding),
         encoding_name: c.message_encoding.clone(),
         count,
     }
 }
 
-/// The summary section through the sans-io reader (reads clamped to the file size).
-fn read_summary(file: &mut BufReader<File>, len: u64) -> Result<Option<Summary>, String> {
-    let options = SummaryReaderOptions::default()
-        .with_file_size(len)
-        .with_record_length_limit(RECORD_LIMIT);
-    let mut reader = SummaryReader::new_with_options(options);
-    while let Some(event) = reader.next_event() {
-        match event.map_err(|e| e.to_string())? {
-            SummaryReadEvent::ReadRequest(need) => {
-                let n = file.read(reader.insert(need)).map_err(|e| e.to_string())?;
-                reader.notify_read(n);
-            }
-            SummaryReadEvent::SeekRequest(to) => {
-                let at = file.seek(to).map_err(|e| e.to_string())?;
-                reader.notify_seeked(at);
-            }
-        }
-    }
-    Ok(reader.finish())
-}
-
-/// Counts the bytes a reader has delivered (for error positions).
-struct Counted<R> {
-    inner: R,
-    read: Arc<AtomicU64>,
-}
-
-impl<R: Read> Read for Counted<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.read.fetch_add(n as u64, Ordering::Relaxed);
-        Ok(n)
-    }
-}
-
-/// Messages in file order, chunk CRCs checked before a chunk's messages come out.
-struct Linear {
-    reader: mcap::io::MessageReader<Counted<BufReader<File>>>,
-    read: Arc<AtomicU64>,
-    index: u64,
-}
-
-impl Linear {
-    fn open(path: &Path) -> Result<Self, IoError> {
-        let file = File::open(path).map_err(|e| IoError::io(path, e))?;
-        let options = LinearReaderOptions::default()
-            .with_prevalidate_chunk_crcs(true)
-            .with_validate_data_section_crc(true)
-            .with_record_length_limit(RECORD_LIMIT);
-        let read = Arc::new(AtomicU64::new(0));
-        let source = Counted {
-            inner: BufReader::new(file),
-            read: Arc::clone(&read),
-        };
-        Ok(Self {
-            reader: mcap::io::MessageReader::new_with_options(source, options),
-            read,
-            index: 0,
-        })
-    }
-
-    /// The next message; the error says after which message and near which byte.
-    fn next(&mut self) -> Option<Result<Message<'static>, String>> {
-        Some(match self.reader.next()? {
-            Ok(m) => {
-                self.index += 1;
-                Ok(m)
-            }
-            Err(e) => Err(format!(
-                "{e} (reading near byte {}, after message {} of the file; \
-                 the messages before it were read)",
-                self.read.load(Ordering::Relaxed),
-                self.index,
-            )),
-        })
-    }
-}
-
 impl MessageFile for McapFile {
     fn path(&self) -> &Path {
         &self.src.path
+    }
+
+    fn format(&self) -> BagFormat {
+        BagFormat::Mcap
     }
 
     fn channels(&self) -> &[ChannelInfo] {
@@ -362,7 +293,9 @@ impl MessageFile for McapFile {
                     .iter()
                     .filter(|c| {
                         c.channels.is_empty()
-                            || c.channels.iter().any(|id| channels.contains(&u32::from(*id)))
+                            || c.channels
+                                .iter()
+                                .any(|id| channels.contains(&u32::from(*id)))
                     })
                     .map(|c| c.span)
                     .collect();
@@ -372,7 +305,7 @@ impl MessageFile for McapFile {
             // The stream reports its own damage when it reaches it.
             Mode::Linear { stream } => match Linear::open(&self.src.path) {
                 Ok(s) => {
-                    *stream = Some(s);
+                    *stream = Some(Box::new(s));
                     self.deferred = None;
                 }
                 Err(e) => {

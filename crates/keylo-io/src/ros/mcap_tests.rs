@@ -12,11 +12,19 @@ fn mcap_bytes(msgs: &[(u16, u64)], chunk: u64) -> Vec<u8> {
         .compression(Some(mcap::Compression::Zstd))
         .chunk_size(Some(chunk));
     let mut w = opts.create(Cursor::new(Vec::new())).unwrap();
-    let schema = w.add_schema("std_msgs/msg/String", "ros2msg", b"string data").unwrap();
-    let a = w.add_channel(schema, "/a", "cdr", &BTreeMap::new()).unwrap();
-    let b = w.add_channel(schema, "/b", "cdr", &BTreeMap::new()).unwrap();
+    let schema = w
+        .add_schema("std_msgs/msg/String", "ros2msg", b"string data")
+        .unwrap();
+    let a = w
+        .add_channel(schema, "/a", "cdr", &BTreeMap::new())
+        .unwrap();
+    let b = w
+        .add_channel(schema, "/b", "cdr", &BTreeMap::new())
+        .unwrap();
     for (i, &(ch, t)) in msgs.iter().enumerate() {
-        let data: Vec<u8> = (0..100u32).map(|k| (k * 7919 + i as u32 * 104_729) as u8).collect();
+        let data: Vec<u8> = (0..100u32)
+            .map(|k| (k * 7919 + i as u32 * 104_729) as u8)
+            .collect();
         let channel_id = if ch == 1 { a } else { b };
         let header = MessageHeader {
             channel_id,
@@ -39,7 +47,12 @@ fn open(bytes: &[u8]) -> (tempfile::TempDir, McapFile) {
 }
 
 fn read_all(f: &mut McapFile, topic: &str) -> Vec<Result<u64, String>> {
-    let ids: Vec<u32> = f.channels().iter().filter(|c| c.topic == topic).map(|c| c.id).collect();
+    let ids: Vec<u32> = f
+        .channels()
+        .iter()
+        .filter(|c| c.topic == topic)
+        .map(|c| c.id)
+        .collect();
     f.select(&ids);
     std::iter::from_fn(|| f.next_message())
         .map(|r| r.map(|m| m.log_time).map_err(|e| e.to_string()))
@@ -71,7 +84,10 @@ fn indexed_files_read_in_log_time_order() {
         ]
     );
     assert_eq!(f.time_range(), Some((0, 390)));
-    let times: Vec<u64> = read_all(&mut f, "/a").into_iter().map(Result::unwrap).collect();
+    let times: Vec<u64> = read_all(&mut f, "/a")
+        .into_iter()
+        .map(Result::unwrap)
+        .collect();
     assert_eq!(times.len(), 21);
     assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
     assert_eq!(&times[..3], &[0, 15, 20]);
@@ -116,7 +132,10 @@ fn truncated_files_are_read_in_file_order_up_to_the_cut() {
     assert!(got.len() > 2);
     assert!(got[..got.len() - 1].iter().all(Result::is_ok));
     let err = got.last().unwrap().as_ref().unwrap_err();
-    assert!(err.contains("near byte") && err.contains("messages before it were read"), "{err}");
+    assert!(
+        err.contains("near byte") && err.contains("messages before it were read"),
+        "{err}"
+    );
     // Reading again starts over.
     assert_eq!(read_all(&mut f, "/a").len(), got.len());
 }

@@ -157,7 +157,10 @@ mod tests {
                 buf.extend([msg(1), msg(2)]);
                 Ok(())
             } else {
-                Err(IoError::format(std::path::Path::new("f"), "chunk at byte 10: bad"))
+                Err(IoError::format(
+                    std::path::Path::new("f"),
+                    "chunk at byte 10: bad",
+                ))
             }
         }) {
             results.push(r.map(|m| m.log_time).map_err(|e| e.to_string()));

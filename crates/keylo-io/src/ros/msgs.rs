@@ -128,12 +128,13 @@ impl<'a> Image<'a> {
             data: r.bytes("data")?,
         })
     }
+}
 
-    /// Only the header (to match images to clouds without decoding the rest).
-    pub fn decode_header(buf: &'a [u8], encoding: Encoding) -> Result<Header<'a>, String> {
-        let mut r = WireReader::new(buf, encoding)?;
-        Header::read(&mut r, encoding)
-    }
+/// The header of a message that starts with one (PointCloud2, Image), without decoding the
+/// rest: images are matched to clouds by stamp before either is decoded.
+pub fn decode_header(buf: &[u8], encoding: Encoding) -> Result<Header<'_>, String> {
+    let mut r = WireReader::new(buf, encoding)?;
+    Header::read(&mut r, encoding)
 }
 
 /// The text of a `std_msgs/String`.
@@ -159,7 +160,7 @@ pub(crate) mod tests {
         }
         fn pad(&mut self, a: usize) {
             if self.cdr {
-                while (self.buf.len() - 4) % a != 0 {
+                while !(self.buf.len() - 4).is_multiple_of(a) {
                     self.buf.push(0);
                 }
             }
@@ -225,7 +226,10 @@ pub(crate) mod tests {
             let m = PointCloud2::decode(&buf, enc).unwrap();
             assert_eq!(m.header.stamp_ns, 5_000_000_001);
             assert_eq!(m.header.frame_id, "lidar");
-            assert_eq!((m.height, m.width, m.point_step, m.row_step), (1, 2, 12, 24));
+            assert_eq!(
+                (m.height, m.width, m.point_step, m.row_step),
+                (1, 2, 12, 24)
+            );
             assert_eq!(m.fields[0].name, "x");
             assert_eq!(m.data.len(), 24);
             assert!(m.is_dense);
@@ -238,13 +242,19 @@ pub(crate) mod tests {
     #[test]
     fn image_and_string() {
         let mut w = Writer::new(Encoding::Cdr);
-        w.header(7).u32(1).u32(2).string("mono8").u8(0).u32(2).bytes(&[3, 4]);
+        w.header(7)
+            .u32(1)
+            .u32(2)
+            .string("mono8")
+            .u8(0)
+            .u32(2)
+            .bytes(&[3, 4]);
         let img = Image::decode(&w.buf, Encoding::Cdr).unwrap();
-        assert_eq!((img.encoding, img.step, img.data), ("mono8", 2, &[3u8, 4][..]));
         assert_eq!(
-            Image::decode_header(&w.buf, Encoding::Cdr).unwrap().stamp_ns,
-            7
+            (img.encoding, img.step, img.data),
+            ("mono8", 2, &[3u8, 4][..])
         );
+        assert_eq!(decode_header(&w.buf, Encoding::Cdr).unwrap().stamp_ns, 7);
         let mut w = Writer::new(Encoding::Ros1);
         w.string("{\"a\": 1}");
         assert_eq!(decode_string(&w.buf, Encoding::Ros1).unwrap(), "{\"a\": 1}");

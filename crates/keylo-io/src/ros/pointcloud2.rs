@@ -106,7 +106,9 @@ impl Layout<'_> {
                 .iter()
                 .find(|f| f.name.eq_ignore_ascii_case(want))
         });
-        found.map(|f| self.column(f).map(|c| (f.name, c))).transpose()
+        found
+            .map(|f| self.column(f).map(|c| (f.name, c)))
+            .transpose()
     }
 
     fn column(&self, f: &PointField) -> Result<Column, String> {
@@ -218,9 +220,7 @@ fn ranges(layout: &Layout) -> Result<Option<Vec<f32>>, String> {
         return Ok(None);
     };
     let scale = if c.scalar.is_float() { 1.0 } else { 1e-3 };
-    Ok(Some(
-        layout.values(c).map(|v| (v * scale) as f32).collect(),
-    ))
+    Ok(Some(layout.values(c).map(|v| (v * scale) as f32).collect()))
 }
 
 fn rings(layout: &Layout) -> Result<Option<Vec<u16>>, String> {

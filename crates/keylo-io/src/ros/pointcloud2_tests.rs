@@ -89,7 +89,14 @@ fn ouster_ros_fields_and_units() {
         p[28..30].copy_from_slice(&9u16.to_le_bytes());
         p[32..36].copy_from_slice(&(1500u32 * (i as u32 + 1)).to_le_bytes());
     }
-    let buf = cloud_msg(Encoding::Cdr, 2_500_000_000, (2, 2, 48), &fields, false, &data);
+    let buf = cloud_msg(
+        Encoding::Cdr,
+        2_500_000_000,
+        (2, 2, 48),
+        &fields,
+        false,
+        &data,
+    );
     let c = decode_with(&buf, Encoding::Cdr).unwrap();
     assert_eq!(c.grid, Some((2, 2)));
     assert!((c.timestamp - 2.5).abs() < 1e-12);
@@ -108,7 +115,14 @@ fn velodyne_float_time_and_absolute_times() {
     let fields = [("x", 0, 7), ("y", 4, 7), ("z", 8, 7), ("time", 12, 7)];
     let mut data = vec![0u8; 16];
     data[12..16].copy_from_slice(&(-0.05f32).to_le_bytes());
-    let buf = cloud_msg(Encoding::Ros1, 10_000_000_000, (1, 1, 16), &fields, false, &data);
+    let buf = cloud_msg(
+        Encoding::Ros1,
+        10_000_000_000,
+        (1, 1, 16),
+        &fields,
+        false,
+        &data,
+    );
     let t = decode_with(&buf, Encoding::Ros1).unwrap().time.unwrap();
     assert!((t[0] + 0.05).abs() < 1e-7);
 

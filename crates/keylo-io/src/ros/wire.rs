@@ -78,6 +78,7 @@ impl<'a> WireReader<'a> {
     }
 
     /// Byte offset of the cursor in the message.
+    #[cfg(test)]
     pub fn pos(&self) -> usize {
         self.pos
     }
@@ -196,7 +197,10 @@ mod tests {
     fn truncation_and_bad_lengths_name_field_and_offset() {
         let mut r = WireReader::new(&[1, 0], Encoding::Ros1).unwrap();
         let e = r.u32("height").unwrap_err();
-        assert!(e.contains("`height` at byte 0") && e.contains("2 left"), "{e}");
+        assert!(
+            e.contains("`height` at byte 0") && e.contains("2 left"),
+            "{e}"
+        );
         let mut r = WireReader::new(&[0xff, 0xff, 0xff, 0x7f, 1], Encoding::Ros1).unwrap();
         let e = r.bytes("data").unwrap_err();
         assert!(e.contains("length 2147483647"), "{e}");

@@ -58,17 +58,22 @@ pub(crate) fn read_index(path: &Path, file: &mut BagReader, len: u64) -> Result<
         .map_err(|e| fail(format!("bag header record at byte {at}: {e}")))?;
     let bag_header = (|| {
         if f.op()? != op::BAG_HEADER {
-            return Err(format!("expected a bag header record (op 3), found op {}", f.op()?));
+            return Err(format!(
+                "expected a bag header record (op 3), found op {}",
+                f.op()?
+            ));
         }
-        Ok((f.u64("index_pos")?, f.u32("conn_count")?, f.u32("chunk_count")?))
+        Ok((
+            f.u64("index_pos")?,
+            f.u32("conn_count")?,
+            f.u32("chunk_count")?,
+        ))
     })();
     let (index_pos, conns, chunks) =
         bag_header.map_err(|e| fail(format!("bag header record at byte {at}: {e}")))?;
     let data_start = stream_pos(path, file)?;
     let why_scan = if index_pos < data_start || index_pos >= len {
-        format!(
-            "no index (index_pos {index_pos}, file of {len} bytes: truncated or never closed)"
-        )
+        format!("no index (index_pos {index_pos}, file of {len} bytes: truncated or never closed)")
     } else {
         match read_index_section(file, index_pos, len, (conns, chunks), data_start) {
             Ok(index) => return Ok(index),
@@ -96,7 +101,8 @@ fn read_index_section(
     (conn_count, chunk_count): (u32, u32),
     data_start: u64,
 ) -> Result<BagIndex, String> {
-    file.seek(SeekFrom::Start(index_pos)).map_err(|e| e.to_string())?;
+    file.seek(SeekFrom::Start(index_pos))
+        .map_err(|e| e.to_string())?;
     let mut index = BagIndex::default();
     let mut pos = index_pos;
     while let Some(rec) = Record::read(file, len - pos).map_err(|e| format!("byte {pos}: {e}"))? {
@@ -105,8 +111,9 @@ fn read_index_section(
         let f = rec.fields().map_err(|e| format!("byte {at}: {e}"))?;
         let entry = match f.op() {
             Ok(op::CONNECTION) => connection(&f, &rec.data).map(|c| index.connections.push(c)),
-            Ok(op::CHUNK_INFO) => chunk_info(&f, &rec.data, data_start..index_pos)
-                .map(|c| index.chunks.push(c)),
+            Ok(op::CHUNK_INFO) => {
+                chunk_info(&f, &rec.data, data_start..index_pos).map(|c| index.chunks.push(c))
+            }
             Ok(other) => Err(format!("unexpected record op {other} in the index section")),
             Err(e) => Err(e),
         };
@@ -143,11 +150,17 @@ fn chunk_info(
     }
     let pos = f.u64("chunk_pos")?;
     if !chunk_section.contains(&pos) {
-        return Err(format!("chunk_pos {pos} lies outside the chunk section {chunk_section:?}"));
+        return Err(format!(
+            "chunk_pos {pos} lies outside the chunk section {chunk_section:?}"
+        ));
     }
     let count = f.u32("count")? as usize;
     if data.len() != count.saturating_mul(8) {
-        return Err(format!("{count} entries need {} bytes, found {}", count * 8, data.len()));
+        return Err(format!(
+            "{count} entries need {} bytes, found {}",
+            count * 8,
+            data.len()
+        ));
     }
     let counts = data
         .chunks_exact(8)
@@ -165,7 +178,8 @@ fn chunk_info(
 
 /// Scans the chunk section `[start, end)`; a damaged record ends the scan (`damage`).
 fn scan(path: &Path, file: &mut BagReader, start: u64, end: u64) -> Result<BagIndex, IoError> {
-    file.seek(SeekFrom::Start(start)).map_err(|e| IoError::io(path, e))?;
+    file.seek(SeekFrom::Start(start))
+        .map_err(|e| IoError::io(path, e))?;
     let mut index = BagIndex::default();
     let mut pos = start;
     while pos < end {
@@ -224,7 +238,11 @@ fn scan_record(rec: &Record, at: u64, index: &mut BagIndex) -> Result<bool, Stri
     }
     if !counts.is_empty() {
         index.chunks.push(ChunkEntry {
-            span: ChunkSpan { pos: at, start, end },
+            span: ChunkSpan {
+                pos: at,
+                start,
+                end,
+            },
             counts,
         });
     }

@@ -14,7 +14,7 @@ use std::fs::File;
 use std::io::{BufReader, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-use super::file::{ChannelInfo, MessageFile, StoredMessage};
+use super::file::{BagFormat, ChannelInfo, MessageFile, StoredMessage};
 use super::merge::{ChunkSpan, TimeMerge};
 use super::wire::Encoding;
 use crate::IoError;
@@ -82,7 +82,10 @@ impl BagFile {
         let plain = (|| {
             let f = rec.fields()?;
             if f.op()? != op::CHUNK {
-                return Err(format!("expected a chunk record (op 5), found op {}", f.op()?));
+                return Err(format!(
+                    "expected a chunk record (op 5), found op {}",
+                    f.op()?
+                ));
             }
             decompress(f.str("compression")?, &rec.data, f.u32("size")?)
         })()
@@ -117,6 +120,10 @@ fn count_of(chunks: &[ChunkEntry], conn: u32) -> u64 {
 impl MessageFile for BagFile {
     fn path(&self) -> &Path {
         &self.path
+    }
+
+    fn format(&self) -> BagFormat {
+        BagFormat::Ros1Bag
     }
 
     fn channels(&self) -> &[ChannelInfo] {

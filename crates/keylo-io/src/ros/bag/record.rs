@@ -101,9 +101,18 @@ impl Record {
         match read_full(r, &mut len)? {
             0 => return Ok(None),
             4 => {}
-            n => return Err(format!("the file ends {n} bytes into a record header length")),
+            n => {
+                return Err(format!(
+                    "the file ends {n} bytes into a record header length"
+                ))
+            }
         }
-        let header = read_block(r, u32::from_le_bytes(len), max_len.saturating_sub(4), "header")?;
+        let header = read_block(
+            r,
+            u32::from_le_bytes(len),
+            max_len.saturating_sub(4),
+            "header",
+        )?;
         let left = max_len.saturating_sub(8 + header.len() as u64);
         if read_full(r, &mut len)? != 4 {
             return Err("the file ends before the record's data length".into());
@@ -141,13 +150,17 @@ fn read_block(r: &mut impl Read, len: u32, max: u64, what: &str) -> Result<Vec<u
     let mut buf = vec![0u8; len as usize];
     let n = read_full(r, &mut buf)?;
     if n != buf.len() {
-        return Err(format!("the file ends {n} bytes into a {len}-byte record {what}"));
+        return Err(format!(
+            "the file ends {n} bytes into a {len}-byte record {what}"
+        ));
     }
     Ok(buf)
 }
 
 /// The records inside a decompressed chunk: `(offset, fields, data)`.
-pub(crate) fn records_in(buf: &[u8]) -> impl Iterator<Item = Result<(usize, Fields<'_>, &[u8]), String>> {
+pub(crate) fn records_in(
+    buf: &[u8],
+) -> impl Iterator<Item = Result<(usize, Fields<'_>, &[u8]), String>> {
     let mut pos = 0usize;
     let mut failed = false;
     std::iter::from_fn(move || {
@@ -226,10 +239,16 @@ pub(crate) mod tests {
     fn fields_and_records() {
         let time = (5u64 << 32) | 3; // nsec 5, sec 3
         let bytes = record(
-            &[("op", &[op::MSG_DATA]), ("conn", &7u32.to_le_bytes()), ("time", &time.to_le_bytes())],
+            &[
+                ("op", &[op::MSG_DATA]),
+                ("conn", &7u32.to_le_bytes()),
+                ("time", &time.to_le_bytes()),
+            ],
             b"payload",
         );
-        let rec = Record::read(&mut bytes.as_slice(), bytes.len() as u64).unwrap().unwrap();
+        let rec = Record::read(&mut bytes.as_slice(), bytes.len() as u64)
+            .unwrap()
+            .unwrap();
         let f = rec.fields().unwrap();
         assert_eq!(f.op().unwrap(), op::MSG_DATA);
         assert_eq!(f.u32("conn").unwrap(), 7);
@@ -243,7 +262,10 @@ pub(crate) mod tests {
         let inner: Vec<_> = records_in(&bytes).collect();
         assert_eq!(inner.len(), 1);
         let (at, f, data) = inner[0].as_ref().unwrap();
-        assert_eq!((*at, f.u32("conn").unwrap(), *data), (0, 7, &b"payload"[..]));
+        assert_eq!(
+            (*at, f.u32("conn").unwrap(), *data),
+            (0, 7, &b"payload"[..])
+        );
         let cut: Vec<_> = records_in(&bytes[..bytes.len() - 1]).collect();
         assert!(cut[0].as_ref().unwrap_err().contains("chunk offset 0"));
     }
@@ -262,7 +284,9 @@ pub(crate) mod tests {
         let n = plain.len() as u32;
         for (c, data) in [("none", &plain), ("bz2", &bz), ("lz4", &lz)] {
             assert_eq!(decompress(c, data, n).unwrap(), plain, "{c}");
-            assert!(decompress(c, data, n + 1).unwrap_err().contains("header says"));
+            assert!(decompress(c, data, n + 1)
+                .unwrap_err()
+                .contains("header says"));
         }
         assert!(decompress("bz2", &plain, n).unwrap_err().contains("bz2"));
         assert!(decompress("zip", &plain, n).unwrap_err().contains("zip"));
