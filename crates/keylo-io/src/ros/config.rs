@@ -24,8 +24,7 @@ pub struct BagSourceConfig {
     /// gives the beam geometry of organised clouds and the column shift of image topics. Not
     /// used when the file has no such topic; empty = never.
     pub metadata_topic: String,
-    /// `[source.images]`: sensor_msgs/Image topics that fill the frame's channels (organised
-    /// clouds only).
+    /// `[source.images]`: sensor_msgs/Image topics filling channels of organised clouds.
     pub images: ImageTopics,
     /// `[source.projection]`: the image grid of unorganised clouds (height 1).
     pub projection: ProjectionConfig,

@@ -22,7 +22,6 @@ use crate::IoError;
 /// An indexed chunk: where it is and which channels it holds.
 struct IndexedChunk {
     span: ChunkSpan,
-    length: u64,
     channels: Vec<u16>,
 }
 
@@ -104,10 +103,10 @@ impl McapFile {
             .map(|c| IndexedChunk {
                 span: ChunkSpan {
                     pos: c.chunk_start_offset,
+                    length: c.chunk_length,
                     start: c.message_start_time,
                     end: c.message_end_time,
                 },
-                length: c.chunk_length,
                 channels: c.message_index_offsets.keys().copied().collect(),
             })
             .collect();
@@ -152,17 +151,11 @@ impl McapFile {
     }
 
     fn next_indexed(&mut self) -> Option<Result<StoredMessage, IoError>> {
-        let Mode::Indexed { chunks, merge } = &mut self.mode else {
+        let Mode::Indexed { merge, .. } = &mut self.mode else {
             return None;
         };
         let src = &mut self.src;
-        merge.next(|span, out| {
-            let length = chunks
-                .iter()
-                .find(|c| c.span.pos == span.pos)
-                .map_or(0, |c| c.length);
-            src.load(span, length, out)
-        })
+        merge.next(|span, out| src.load(span, out))
     }
 
     fn next_linear(&mut self) -> Option<Result<StoredMessage, IoError>> {
@@ -188,14 +181,9 @@ impl McapFile {
 }
 
 impl Source {
-    /// The selected messages of the chunk at `span.pos` (`length` bytes), CRC-checked.
-    fn load(
-        &mut self,
-        span: &ChunkSpan,
-        length: u64,
-        out: &mut Vec<StoredMessage>,
-    ) -> Result<(), IoError> {
-        let pos = span.pos;
+    /// The selected messages of the chunk at `span.pos` (`span.length` bytes), CRC-checked.
+    fn load(&mut self, span: &ChunkSpan, out: &mut Vec<StoredMessage>) -> Result<(), IoError> {
+        let (pos, length) = (span.pos, span.length);
         let fail = |m: String| IoError::format(&self.path, format!("chunk at byte {pos}: {m}"));
         if length > self.len.saturating_sub(pos) || length > RECORD_LIMIT as u64 || length < 9 {
             return Err(fail(format!(

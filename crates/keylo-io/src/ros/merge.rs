@@ -13,6 +13,8 @@ use crate::IoError;
 pub(crate) struct ChunkSpan {
     /// File offset of the chunk record.
     pub pos: u64,
+    /// Bytes of the chunk record, when the index says (0 when not).
+    pub length: u64,
     /// First and last message time in the chunk, nanoseconds.
     pub start: u64,
     pub end: u64,
@@ -118,7 +120,12 @@ mod tests {
     }
 
     fn span(pos: u64, start: u64, end: u64) -> ChunkSpan {
-        ChunkSpan { pos, start, end }
+        ChunkSpan {
+            pos,
+            length: 0,
+            start,
+            end,
+        }
     }
 
     #[test]

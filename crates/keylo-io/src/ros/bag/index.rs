@@ -171,7 +171,12 @@ fn chunk_info(
         .collect();
     let (start, end) = (f.time("start_time")?, f.time("end_time")?);
     Ok(ChunkEntry {
-        span: ChunkSpan { pos, start, end },
+        span: ChunkSpan {
+            pos,
+            length: 0,
+            start,
+            end,
+        },
         counts,
     })
 }
@@ -240,6 +245,7 @@ fn scan_record(rec: &Record, at: u64, index: &mut BagIndex) -> Result<bool, Stri
         index.chunks.push(ChunkEntry {
             span: ChunkSpan {
                 pos: at,
+                length: 0,
                 start,
                 end,
             },
