@@ -224,3 +224,48 @@ fn missing_topics_list_the_candidates() {
         .to_string();
     assert_mentions(&err, &["source.images.signal", "/ouster/signal_image ("]);
 }
+
+/// Bytes flipped at pseudo-random places (a fixed LCG, so the test is repeatable): reading
+/// every topic ends with frames or an error, never a panic.
+#[test]
+fn flipped_bytes_never_panic() {
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move |n: usize| {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 33) as usize % n
+    };
+    let rounds: usize = std::env::var("KEYLO_FLIP_ROUNDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(24);
+    for (name, original, format) in [
+        ("x.bag", bag_bytes(), BagFormat::Ros1Bag),
+        ("x.mcap", mcap_bytes(), BagFormat::Mcap),
+    ] {
+        for _ in 0..rounds {
+            let mut bytes = original.clone();
+            let at = next(bytes.len() - 64);
+            for k in 0..1 + next(32) {
+                bytes[at + k] ^= 1 + next(255) as u8;
+            }
+            let (_d, path) = write(name, &bytes);
+            let _ = bag_info(&path);
+            for topic in ["/ouster/points", "/cloud_unorganised"] {
+                let mut config = BagSourceConfig {
+                    path: path.display().to_string(),
+                    topic: topic.into(),
+                    ..BagSourceConfig::default()
+                };
+                config.images.signal = "/ouster/signal_image".into();
+                if topic == "/cloud_unorganised" {
+                    config.images.signal.clear();
+                }
+                if let Ok(mut s) = BagSource::open(&config, &BuildContext::default(), format) {
+                    while let Some(Ok(_)) = s.next_frame() {}
+                }
+            }
+        }
+    }
+}

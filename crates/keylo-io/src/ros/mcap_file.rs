@@ -10,8 +10,9 @@ use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-use mcap::records::{op, Record};
-use mcap::{read::ChunkReader, Summary};
+use mcap::records::{op, MessageHeader, Record};
+use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
+use mcap::Summary;
 
 use super::file::{BagFormat, ChannelInfo, MessageFile, StoredMessage};
 use super::mcap_stream::{read_summary, Linear, RECORD_LIMIT};
@@ -202,28 +203,50 @@ impl Source {
                 buf[0]
             )));
         }
-        // The merge drops what a failed chunk pushed, so messages go out as they come; the
-        // CRC is checked once the chunk is read to its end.
-        let (header, data) = match mcap::parse_record(op::CHUNK, &buf[9..]) {
-            Ok(Record::Chunk { header, data }) => (header, data),
-            Ok(_) => return Err(fail("not a chunk record".into())),
-            Err(e) => return Err(fail(e.to_string())),
-        };
-        let reader = ChunkReader::new(header, &data).map_err(|e| fail(e.to_string()))?;
-        for record in reader {
-            if let Record::Message { header, data } = record.map_err(|e| fail(e.to_string()))? {
-                let channel = u32::from(header.channel_id);
-                if self.wanted.contains(&channel) {
-                    out.push(StoredMessage {
-                        channel,
-                        log_time: header.log_time,
-                        data: data.into_owned(),
-                    });
-                }
+        // The sans-io reader bounds every length by RECORD_LIMIT (mcap's ChunkReader does not,
+        // and reserves what a corrupt length says) and checks the CRC before any record.
+        for record in chunk_records(&buf).map_err(fail)? {
+            let channel = u32::from(record.0.channel_id);
+            if self.wanted.contains(&channel) {
+                out.push(StoredMessage {
+                    channel,
+                    log_time: record.0.log_time,
+                    data: record.1,
+                });
             }
         }
         Ok(())
     }
+}
+
+/// The messages of one chunk record (`buf` = opcode, length, body), CRC-checked first.
+fn chunk_records(buf: &[u8]) -> Result<Vec<(MessageHeader, Vec<u8>)>, String> {
+    let options = LinearReaderOptions::default()
+        .with_skip_start_magic(true)
+        .with_skip_end_magic(true)
+        .with_prevalidate_chunk_crcs(true)
+        .with_record_length_limit(RECORD_LIMIT);
+    let mut reader = LinearReader::new_with_options(options);
+    let mut input = buf;
+    let mut out = Vec::new();
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| e.to_string())? {
+            LinearReadEvent::ReadRequest(n) => {
+                let k = n.min(input.len());
+                reader.insert(k).copy_from_slice(&input[..k]);
+                reader.notify_read(k);
+                input = &input[k..];
+            }
+            LinearReadEvent::Record { opcode, data } if opcode == op::MESSAGE => {
+                match mcap::parse_record(opcode, data).map_err(|e| e.to_string())? {
+                    Record::Message { header, data } => out.push((header, data.into_owned())),
+                    _ => return Err("a message record that does not parse".into()),
+                }
+            }
+            LinearReadEvent::Record { .. } => {}
+        }
+    }
+    Ok(out)
 }
 
 fn span_range(spans: impl Iterator<Item = ChunkSpan>) -> Option<(u64, u64)> {
