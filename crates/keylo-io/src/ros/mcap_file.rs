@@ -50,7 +50,7 @@ pub(crate) struct McapFile {
     channels: Vec<ChannelInfo>,
     time_range: Option<(u64, u64)>,
     note: Option<String>,
-    /// Damage found by the scan (reported after the last message of an indexed read).
+    /// Damage found by the scan of a file without summary (its stream reports it again).
     damage: Option<String>,
     mode: Mode,
     /// An error still to report once the current read runs out.
@@ -125,7 +125,7 @@ impl McapFile {
     fn scan(&mut self, why: &str) -> Result<(), IoError> {
         let mut stream = Linear::open(&self.src.path)?;
         let mut found: BTreeMap<u16, ChannelInfo> = BTreeMap::new();
-        let mut times = Vec::new();
+        let mut range: Option<(u64, u64)> = None;
         while let Some(next) = stream.next() {
             match next {
                 Ok(m) => {
@@ -133,7 +133,8 @@ impl McapFile {
                         .entry(m.channel.id)
                         .or_insert_with(|| channel_info(&m.channel, Some(0)));
                     info.count = info.count.map(|n| n + 1);
-                    times.push(m.log_time);
+                    let t = m.log_time;
+                    range = Some(range.map_or((t, t), |(a, b)| (a.min(t), b.max(t))));
                 }
                 Err(e) => {
                     self.damage = Some(e);
@@ -142,11 +143,7 @@ impl McapFile {
             }
         }
         self.channels = found.into_values().collect();
-        self.time_range = times
-            .iter()
-            .min()
-            .zip(times.iter().max())
-            .map(|(a, b)| (*a, *b));
+        self.time_range = range;
         self.note = Some(format!("{why}; read in file order"));
         Ok(())
     }
@@ -311,7 +308,7 @@ impl MessageFile for McapFile {
                     .map(|c| c.span)
                     .collect();
                 *merge = TimeMerge::new(spans);
-                self.deferred = self.damage.clone();
+                self.deferred = None;
             }
             // The stream reports its own damage when it reaches it.
             Mode::Linear { stream } => match Linear::open(&self.src.path) {

@@ -167,17 +167,21 @@ impl BagSource {
         Ok(frame)
     }
 
+    /// The beams of the sequence: decided on the first cloud, again if the grid size changes.
     fn beams_for(&mut self, cloud: &RawCloud, rows: usize, cols: usize) -> Arc<BeamGeometry> {
-        let topic = &self.topic;
-        let meta = self.metadata.as_ref();
-        Arc::clone(self.beams.get_or_insert_with(|| {
-            Arc::new(match meta {
-                Some(m) if m.pixels_per_column == rows && m.columns_per_frame == cols => {
-                    beams::from_metadata(m)
-                }
-                _ => beams::estimate(cloud, rows, cols, topic),
-            })
-        }))
+        if let Some(b) = &self.beams {
+            if b.altitude_deg.len() == rows && b.columns_per_frame == cols {
+                return Arc::clone(b);
+            }
+        }
+        let beams = Arc::new(match &self.metadata {
+            Some(m) if m.pixels_per_column == rows && m.columns_per_frame == cols => {
+                beams::from_metadata(m)
+            }
+            _ => beams::estimate(cloud, rows, cols, &self.topic),
+        });
+        self.beams = Some(Arc::clone(&beams));
+        beams
     }
 
     /// The column shift from the cloud to its images (see `ImageTopics::pixel_shift_by_row`).
