@@ -65,8 +65,8 @@ pub struct ImageTopics {
     pub range: String,
     /// Metres per range-image unit: 0.004 for ouster-ros' mono16 range images (4 mm).
     pub range_unit_m: f64,
-    /// Column shift per row from the cloud to the images: cloud pixel (r, c) is image pixel
-    /// (r, (c + shift[r]) mod cols). One entry applies to every row; `[0]` = same layout.
+    /// Column shift per row from the cloud to the images: cloud pixel `(r, c)` is image pixel
+    /// `(r, (c + shift[r]) mod cols)`. One entry applies to every row; `[0]` = same layout.
     /// Empty = automatic: 0 for destaggered clouds (newer ouster-ros), the sensor's
     /// `pixel_shift_by_row` from `metadata_topic` for staggered ones (a cloud is staggered
     /// when all points of a column share one time).
