@@ -16,9 +16,11 @@ use crate::IoError;
 pub struct BagInfo {
     /// The file read (the `.mcap` inside a ROS2 bag folder).
     pub path: PathBuf,
+    /// ROS1 bag or MCAP.
     pub format: BagFormat,
     /// First and last log (record) time, nanoseconds.
     pub start_ns: Option<u64>,
+    /// Last log time, nanoseconds.
     pub end_ns: Option<u64>,
     /// `end - start`, seconds.
     pub duration_s: Option<f64>,
@@ -33,6 +35,7 @@ pub struct BagInfo {
 /// One topic of a recording.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TopicInfo {
+    /// Topic name.
     pub name: String,
     /// Message type as stored (`sensor_msgs/PointCloud2` or `sensor_msgs/msg/PointCloud2`).
     pub msg_type: String,
@@ -51,23 +54,34 @@ pub struct TopicInfo {
 pub struct CloudLayout {
     /// Header stamp, nanoseconds.
     pub stamp_ns: i64,
+    /// Header frame id.
     pub frame_id: String,
+    /// Rows (1: unorganised).
     pub height: u32,
+    /// Points per row.
     pub width: u32,
+    /// Bytes per point.
     pub point_step: u32,
+    /// Bytes per row.
     pub row_step: u32,
+    /// Byte order of the point data.
     pub is_bigendian: bool,
+    /// True when the driver says every point is valid.
     pub is_dense: bool,
+    /// The point layout.
     pub fields: Vec<FieldInfo>,
 }
 
 /// One PointField.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FieldInfo {
+    /// Field name.
     pub name: String,
+    /// Byte offset inside a point.
     pub offset: u32,
     /// `INT8` … `FLOAT64` (or `datatype N` for unknown codes).
     pub datatype: String,
+    /// Elements (1 for scalars).
     pub count: u32,
 }
 

@@ -52,17 +52,21 @@ pub struct PointField<'a> {
 /// `sensor_msgs/PointCloud2`, its point data borrowed from the message.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointCloud2<'a> {
+    /// Stamp and frame.
     pub header: Header<'a>,
     /// Rows (1 for an unorganised cloud).
     pub height: u32,
     /// Points per row.
     pub width: u32,
+    /// The point layout.
     pub fields: Vec<PointField<'a>>,
+    /// Byte order of `data`.
     pub is_bigendian: bool,
     /// Bytes per point.
     pub point_step: u32,
     /// Bytes per row.
     pub row_step: u32,
+    /// The points, `height × row_step` bytes.
     pub data: &'a [u8],
     /// True when the cloud has no invalid points.
     pub is_dense: bool,
@@ -103,14 +107,19 @@ impl<'a> PointCloud2<'a> {
 /// `sensor_msgs/Image`, its pixels borrowed from the message.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image<'a> {
+    /// Stamp and frame.
     pub header: Header<'a>,
+    /// Rows.
     pub height: u32,
+    /// Pixels per row.
     pub width: u32,
     /// Pixel encoding, e.g. `mono16`.
     pub encoding: &'a str,
+    /// Byte order of multi-byte pixels.
     pub is_bigendian: bool,
     /// Bytes per row.
     pub step: u32,
+    /// The pixels, `height × step` bytes.
     pub data: &'a [u8],
 }
 
