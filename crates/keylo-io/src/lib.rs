@@ -15,6 +15,7 @@ pub mod ouster;
 pub mod pcd;
 pub mod ply;
 pub mod point_files;
+pub mod ros;
 pub mod select;
 
 pub use error::IoError;
@@ -62,4 +63,16 @@ pub fn register(registry: &mut keylo_core::Registry) {
         point_files::build_pcd,
     );
     registry.add_source_probe("pcd", point_files::is_pcd_data);
+    registry.sources.add::<ros::BagSourceConfig>(
+        "ros1-bag",
+        "a ROS1 .bag: sensor_msgs/PointCloud2 clouds (organised or projected), optional sensor_msgs/Image channels",
+        |c, ctx| Ok(Box::new(ros::BagSource::open(&c, ctx, ros::BagFormat::Ros1Bag)?)),
+    );
+    registry.sources.add::<ros::BagSourceConfig>(
+        "mcap",
+        "an MCAP file or ROS2 bag folder: sensor_msgs/PointCloud2 clouds (organised or projected), optional sensor_msgs/Image channels",
+        |c, ctx| Ok(Box::new(ros::BagSource::open(&c, ctx, ros::BagFormat::Mcap)?)),
+    );
+    registry.add_source_probe("ros1-bag", ros::is_ros1_bag);
+    registry.add_source_probe("mcap", ros::is_mcap);
 }
