@@ -109,7 +109,7 @@ fn write_images(out: &Path, frame: &LidarFrame) -> Result<Vec<String>> {
 }
 
 fn print_text(info: &Info) {
-    let row = |k: &str, v: String| println!("  {k:<22}{v}");
+    let row = |k: &str, v: String| println!("  {k:<22} {v}");
     println!("{}", info.path);
     row("kind", info.kind.clone());
     row("source", info.description.clone());

@@ -93,7 +93,7 @@ fn meta_names_the_metadata_of_a_capture_without_one_beside_it() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stdout(&o).contains("frames                3"),
+        stdout(&o).contains("frames                 3"),
         "{}",
         stdout(&o)
     );

@@ -46,7 +46,9 @@ fn write_table(out: &mut String, path: &str, table: &toml::Table, schema: &Value
         let sub_path = format!("{path}.{key}");
         let _ = write!(out, "\n[{sub_path}]\n");
         if let Some(doc) = field.get("description").and_then(Value::as_str) {
-            let _ = writeln!(out, "# {doc}");
+            for line in doc.lines() {
+                let _ = writeln!(out, "# {line}");
+            }
         }
         write_table(out, &sub_path, sub, field, root);
     }

@@ -24,6 +24,8 @@ use crate::IoError;
 
 /// Reads the frames of a ROS1 bag or an MCAP file, one cloud message at a time.
 pub struct BagSource {
+    /// The file read (the `.mcap` inside a ROS2 bag folder).
+    path: std::path::PathBuf,
     file: Box<dyn MessageFile>,
     description: String,
     topic: String,
@@ -83,6 +85,7 @@ impl BagSource {
         ids.extend(queues.iter().flat_map(|q| q.ids.iter().copied()));
         file.select(&ids);
         Ok(Self {
+            path: path.clone(),
             description: format!("{} {} topic {}", format.kind(), path.display(), cloud.name),
             file,
             topic: cloud.name.clone(),
@@ -304,6 +307,32 @@ impl ImageSource for BagSource {
             description: self.description.clone(),
             frames: self.frames,
         }
+    }
+
+    /// What `keylo info` shows: the recording's time span and every topic with its type,
+    /// encoding, count and (PointCloud2) layout, as [`super::bag_info`] reads them.
+    fn details(&self) -> Vec<(String, String)> {
+        let info = match super::bag_info(&self.path) {
+            Ok(i) => i,
+            Err(e) => return vec![("recording".into(), format!("unreadable: {e}"))],
+        };
+        let mut d = vec![("cloud topic".into(), self.topic.clone())];
+        if let Some(s) = info.duration_s {
+            d.push(("recording span (s)".into(), format!("{s:.3}")));
+        }
+        for note in [&info.note, &info.damage].into_iter().flatten() {
+            d.push(("note".into(), note.clone()));
+        }
+        for t in &info.topics {
+            let count = t.count.map_or("?".to_string(), |n| n.to_string());
+            let mut v = format!("{} [{}], {count} messages", t.msg_type, t.encoding);
+            if let Some(c) = &t.cloud {
+                let fields: Vec<&str> = c.fields.iter().map(|f| f.name.as_str()).collect();
+                v += &format!("; {}x{}, fields {}", c.height, c.width, fields.join(" "));
+            }
+            d.push((format!("topic {}", t.name), v));
+        }
+        d
     }
 
     fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>> {
