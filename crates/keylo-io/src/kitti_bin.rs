@@ -1,43 +1,25 @@
 //! KITTI-style `.bin` frames: `x y z intensity` as little-endian float32, valid points only.
 
-use std::io::Write;
 use std::path::Path;
 
 use keylo_core::LidarFrame;
 
+use crate::export::{ExportField, ExportPoints};
 use crate::IoError;
 
 /// Writes the valid, finite points of `frame` with their signal as intensity.
 pub fn write_kitti_bin(path: &Path, frame: &LidarFrame) -> Result<usize, IoError> {
-    let mut bytes = Vec::with_capacity(frame.valid_count() * 16);
-    let mut n = 0;
-    for i in 0..frame.rows * frame.cols {
-        let p = frame.points[i];
-        if !frame.valid[i] || !p.coords.iter().all(|v| v.is_finite()) {
-            continue;
-        }
-        for v in [p.x, p.y, p.z, frame.signal[i]] {
-            bytes.extend_from_slice(&v.to_le_bytes());
-        }
-        n += 1;
-    }
-    let mut file = std::fs::File::create(path).map_err(|e| IoError::io(path, e))?;
-    file.write_all(&bytes).map_err(|e| IoError::io(path, e))?;
-    Ok(n)
+    write_kitti_bin_points(path, &ExportPoints::new(frame, &[ExportField::Signal]))
 }
 
-/// Writes the points of `points` as x y z + its first field (float32; the signal when it has
-/// no field); returns the number of points.
-pub fn write_kitti_bin_points(
-    path: &Path,
-    points: &crate::export::ExportPoints,
-) -> Result<usize, IoError> {
+/// Writes the points of `points` as x y z + its first field (float32; 0 when it has no
+/// field); returns the number of points.
+pub fn write_kitti_bin_points(path: &Path, points: &ExportPoints) -> Result<usize, IoError> {
     let field = points.fields.first().copied();
     let mut bytes = Vec::with_capacity(points.pixels.len() * 16);
     for &i in &points.pixels {
-        let v = field.map_or(f32::NAN, |f| points.value(f, i));
         let [x, y, z] = points.xyz(i);
-        for v in [x, y, z, if v.is_nan() { 0.0 } else { v }] {
+        for v in [x, y, z, field.map_or(0.0, |f| points.value(f, i))] {
             bytes.extend_from_slice(&v.to_le_bytes());
         }
     }
