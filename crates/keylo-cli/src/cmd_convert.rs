@@ -19,9 +19,8 @@ use crate::{configs, EXIT_FRAME_FAILED};
 pub fn run(args: ConvertArgs, quiet: bool) -> Result<ExitCode> {
     let fields = fields(&args)?;
     let registry = keylo::registry();
-    let d = &args.data;
-    let config = configs::load(&registry, None, Some(&d.data), d.meta.as_deref(), &d.sets)?;
-    let mut source = keylo::build_source(&config, &registry)?;
+    let (_, mut source) = configs::open_data(&registry, &args.data)?;
+    let description = source.info().description;
     let dir = match args.format {
         ConvertFormat::KittiBin => args.out.join("velodyne"),
         _ => args.out.clone(),
@@ -39,7 +38,7 @@ pub fn run(args: ConvertArgs, quiet: bool) -> Result<ExitCode> {
     let mut failure = None;
     while let Some(frame) = source.next_frame() {
         match frame {
-            Ok(f) => writer.write(&f, &source.info().description)?,
+            Ok(f) => writer.write(&f, &description)?,
             Err(e) => {
                 failure = Some(format!("frame {}: {e}", writer.count));
                 break;
@@ -56,7 +55,7 @@ pub fn run(args: ConvertArgs, quiet: bool) -> Result<ExitCode> {
             eprintln!("error: {e} (the {count} frames before it are written)");
             ExitCode::from(EXIT_FRAME_FAILED)
         }
-        None if count == 0 => bail!("{}: the source holds no frame", d.data.display()),
+        None if count == 0 => bail!("{}: the source holds no frame", args.data.data.display()),
         None => ExitCode::SUCCESS,
     })
 }

@@ -33,12 +33,10 @@ struct Info {
 
 pub fn run(args: InfoArgs) -> Result<ExitCode> {
     let registry = keylo::registry();
-    let d = &args.data;
-    let config = configs::load(&registry, None, Some(&d.data), d.meta.as_deref(), &d.sets)?;
-    let mut source = keylo::build_source(&config, &registry)?;
+    let (kind, mut source) = configs::open_data(&registry, &args.data)?;
     let mut info = Info {
-        kind: config.source.kind.clone(),
-        path: d.data.display().to_string(),
+        kind,
+        path: args.data.data.display().to_string(),
         description: source.info().description,
         ..Info::default()
     };

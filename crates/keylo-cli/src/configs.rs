@@ -86,3 +86,20 @@ fn apply_meta(raw: &mut RawConfig, meta: &Path) -> Result<()> {
     );
     Ok(())
 }
+
+/// The source of `keylo info` / `keylo convert`: the data path's detected kind, its metadata
+/// and overrides; also returns the source kind.
+pub fn open_data(
+    registry: &Registry,
+    data: &crate::args::DataArgs,
+) -> Result<(String, Box<dyn keylo::ImageSource>)> {
+    let config = load(
+        registry,
+        None,
+        Some(&data.data),
+        data.meta.as_deref(),
+        &data.sets,
+    )?;
+    let source = keylo::build_source(&config, registry)?;
+    Ok((config.source.kind, source))
+}
