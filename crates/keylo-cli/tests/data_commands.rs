@@ -196,3 +196,31 @@ fn convert_checks_its_channels() {
         "{header}"
     );
 }
+
+#[test]
+fn frame_folders_take_start_stride_and_max_frames() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 7);
+    let frames = |sets: &[&str]| {
+        let mut args = vec!["info", data.to_str().unwrap(), "--json"];
+        for s in sets {
+            args.extend_from_slice(&["--set", s]);
+        }
+        let o = keylo(&args, tmp.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+        let info: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+        info["frames"].as_u64().unwrap()
+    };
+    assert_eq!(frames(&[]), 7);
+    assert_eq!(frames(&["source.stride=2"]), 4);
+    assert_eq!(
+        frames(&["source.start=1", "source.stride=3", "source.max_frames=5"]),
+        2
+    );
+    let o = keylo(
+        &["info", data.to_str().unwrap(), "--set", "source.stride=0"],
+        tmp.path(),
+    );
+    expect_failure(&o, 2, "source.stride");
+}

@@ -5,18 +5,32 @@ use keylo_core::{BeamGeometry, BuildContext, CoreError, ImageSource, LidarFrame,
 use serde::{Deserialize, Serialize};
 
 use super::{codec, Manifest, FRAMES_DIR, MANIFEST};
+use crate::select::FrameSelection;
 use crate::IoError;
 
 /// `[source] kind = "frames"`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct FramesSourceConfig {
     /// The frame folder (holding keylo-frames.json); relative to the config file.
     pub path: String,
     /// Index of the first frame to read.
     pub start: usize,
+    /// Read every `stride`-th frame.
+    pub stride: usize,
     /// Frames to read at most; 0 = all.
     pub max_frames: usize,
+}
+
+impl Default for FramesSourceConfig {
+    fn default() -> Self {
+        Self {
+            path: String::new(),
+            start: 0,
+            stride: 1,
+            max_frames: 0,
+        }
+    }
 }
 
 /// True when `path` is a folder with a `keylo-frames.json` manifest.
@@ -52,7 +66,7 @@ impl FramesSource {
             ));
         }
         let manifest = Manifest::read(&manifest_path)?;
-        let mut files = list_frames(&dir.join(FRAMES_DIR))?;
+        let files = list_frames(&dir.join(FRAMES_DIR))?;
         if files.len() != manifest.frames {
             return Err(IoError::format(
                 &manifest_path,
@@ -67,25 +81,10 @@ impl FramesSource {
         if files.is_empty() {
             return Err(IoError::format(&dir, "the folder holds no frame"));
         }
-        if config.start >= files.len() {
-            return Err(IoError::format(
-                &dir,
-                format!(
-                    "`source.start` = {} but the folder holds {} frames (0..{})",
-                    config.start,
-                    files.len(),
-                    files.len()
-                ),
-            ));
-        }
-        let end = match config.max_frames {
-            0 => files.len(),
-            n => (config.start + n).min(files.len()),
-        };
-        files = files
-            .get(config.start.min(end)..end)
-            .map(<[_]>::to_vec)
-            .unwrap_or_default();
+        let selection = FrameSelection::new(config.start, config.stride, config.max_frames)
+            .and_then(|s| s.indices(files.len()))
+            .map_err(|m| IoError::format(&dir, m))?;
+        let files = selection.into_iter().map(|i| files[i].clone()).collect();
         Ok(Self {
             dir,
             rows: manifest.rows,
