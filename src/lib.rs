@@ -5,6 +5,7 @@
 
 pub use keylo_core as core;
 pub use keylo_eval as eval;
+pub use keylo_features as features;
 pub use keylo_io as io;
 pub use keylo_registration as registration;
 pub use keylo_sim as sim;
@@ -17,5 +18,6 @@ pub fn registry() -> keylo_core::Registry {
     keylo_sim::register(&mut registry);
     keylo_io::register(&mut registry);
     keylo_registration::register(&mut registry);
+    keylo_features::register(&mut registry);
     registry
 }

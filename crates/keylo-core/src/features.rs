@@ -16,6 +16,9 @@ pub struct Keypoint {
     pub response: f32,
     /// Pyramid octave.
     pub octave: i32,
+    /// Detector-specific id (OpenCV's `class_id`; AKAZE keeps its evolution level here, which
+    /// its descriptor needs).
+    pub class_id: i32,
 }
 
 /// Descriptor rows, one per keypoint.

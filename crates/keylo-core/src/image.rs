@@ -35,6 +35,13 @@ impl Image {
         }
     }
 
+    /// The image's name: its source channels joined by `+` (`signal`, `signal+range`). Per-image
+    /// settings (`[detector.by_image.<name>]`, downsampler windows) refer to images by it.
+    pub fn name(&self) -> String {
+        let names: Vec<&str> = self.sources.iter().map(|c| c.name()).collect();
+        names.join("+")
+    }
+
     /// Pixel value of plane 0 at `(x, y)`, if inside.
     pub fn get(&self, x: usize, y: usize) -> Option<u8> {
         if x >= self.width || y >= self.height {

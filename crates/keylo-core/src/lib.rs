@@ -21,7 +21,7 @@ pub use error::{ConfigError, CoreError};
 pub use features::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
 pub use frame::{BeamGeometry, Channel, LidarFrame, PixelIndexMap};
 pub use image::Image;
-pub use pipeline::{build_source, FrameResult, Odometry, Pipeline, StageTimings};
+pub use pipeline::{build_source, FrameResult, Odometry, PerImage, Pipeline, StageTimings};
 pub use registry::{BuildContext, Registry};
 pub use stages::{
     Descriptor, Detector, Downsampler, ImageBuilder, ImageSource, Registrar, Registration,

@@ -36,11 +36,20 @@ pub const STAGE_DEFAULT_KINDS: [(&str, &str); 6] = [
     ("registrar", "kiss-icp"),
 ];
 
+/// Stages whose section may hold per-image overrides, `[detector.by_image.<image>]`.
+pub const PER_IMAGE_STAGES: [&str; 2] = ["detector", "descriptor"];
+
+/// The key of the per-image override tables inside a [`PER_IMAGE_STAGES`] section.
+pub const BY_IMAGE_KEY: &str = "by_image";
+
 /// One stage: the backend name and its resolved parameters (defaults filled in).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct StageConfig {
     pub kind: String,
     pub params: toml::Table,
+    /// Per-image overrides (detector and descriptor only): the stage used for the image of
+    /// that name (`signal`, `range`, `signal+range`, …) instead of this one.
+    pub by_image: std::collections::BTreeMap<String, StageConfig>,
 }
 
 impl StageConfig {

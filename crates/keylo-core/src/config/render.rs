@@ -2,21 +2,18 @@ use std::fmt::Write;
 
 use serde_json::Value;
 
-use super::{OutputConfig, PipelineConfig};
+use super::{OutputConfig, PipelineConfig, StageConfig, BY_IMAGE_KEY};
 use crate::Registry;
 
 /// The resolved config as TOML, each key preceded by its documentation.
 pub fn render_resolved(config: &PipelineConfig, registry: &Registry) -> String {
     let mut out = format!("# keylo config resolved from {}\n", config.origin);
     for (section, stage) in config.stages() {
-        let _ = write!(out, "\n[{section}]\n");
-        let described = registry.describe(section, &stage.kind);
-        if let Some((summary, _)) = &described {
-            let _ = writeln!(out, "# {summary}");
+        write_stage(&mut out, registry, section, section, stage);
+        for (image, sub) in &stage.by_image {
+            let path = format!("{section}.{BY_IMAGE_KEY}.{image}");
+            write_stage(&mut out, registry, section, &path, sub);
         }
-        let _ = writeln!(out, "kind = {}", toml::Value::String(stage.kind.clone()));
-        let schema = described.map(|(_, s)| s).unwrap_or(Value::Null);
-        write_table(&mut out, section, &stage.params, &schema, &schema);
     }
     out.push_str("\n[output]\n");
     let schema = schemars::schema_for!(OutputConfig).to_value();
@@ -24,6 +21,23 @@ pub fn render_resolved(config: &PipelineConfig, registry: &Registry) -> String {
         write_table(&mut out, "output", &table, &schema, &schema);
     }
     out
+}
+
+fn write_stage(
+    out: &mut String,
+    registry: &Registry,
+    section: &str,
+    path: &str,
+    stage: &StageConfig,
+) {
+    let _ = write!(out, "\n[{path}]\n");
+    let described = registry.describe(section, &stage.kind);
+    if let Some((summary, _)) = &described {
+        let _ = writeln!(out, "# {summary}");
+    }
+    let _ = writeln!(out, "kind = {}", toml::Value::String(stage.kind.clone()));
+    let schema = described.map(|(_, s)| s).unwrap_or(Value::Null);
+    write_table(out, path, &stage.params, &schema, &schema);
 }
 
 fn write_table(out: &mut String, path: &str, table: &toml::Table, schema: &Value, root: &Value) {

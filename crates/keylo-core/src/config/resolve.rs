@@ -1,4 +1,9 @@
-use super::{OutputConfig, PipelineConfig, RawConfig, StageConfig, SECTIONS, STAGE_DEFAULT_KINDS};
+use std::collections::BTreeMap;
+
+use super::{
+    OutputConfig, PipelineConfig, RawConfig, StageConfig, BY_IMAGE_KEY, PER_IMAGE_STAGES, SECTIONS,
+    STAGE_DEFAULT_KINDS,
+};
 use crate::registry::parse_params;
 use crate::{ConfigError, Registry};
 
@@ -35,23 +40,40 @@ impl Registry {
     }
 
     fn resolve_stage(&self, raw: &RawConfig, section: &str) -> Result<StageConfig, ConfigError> {
+        let params = match raw.table.get(section) {
+            None => toml::Table::new(),
+            Some(value) => expect_table(&raw.origin, section, value)?,
+        };
+        self.resolve_stage_table(&raw.origin, section, section, params)
+    }
+
+    /// Resolves one stage table found at `path` (`detector`, `detector.by_image.range`).
+    fn resolve_stage_table(
+        &self,
+        origin: &str,
+        section: &str,
+        path: &str,
+        mut params: toml::Table,
+    ) -> Result<StageConfig, ConfigError> {
         let invalid = |path: String, message: String| ConfigError::Invalid {
-            origin: raw.origin.clone(),
+            origin: origin.into(),
             path,
             message,
         };
-        let mut params = match raw.table.get(section) {
-            None => toml::Table::new(),
-            Some(toml::Value::Table(t)) => t.clone(),
-            Some(other) => {
+        let by_image = match params.remove(BY_IMAGE_KEY) {
+            Some(value) if PER_IMAGE_STAGES.contains(&section) && path == section => {
+                self.resolve_by_image(origin, section, &value)?
+            }
+            Some(_) => {
                 return Err(invalid(
-                    section.into(),
+                    format!("{path}.{BY_IMAGE_KEY}"),
                     format!(
-                        "expected a table `[{section}]`, found a value of type {}",
-                        other.type_str()
+                        "per-image overrides are allowed only directly in [{}]",
+                        PER_IMAGE_STAGES.join("], [")
                     ),
                 ))
             }
+            None => Default::default(),
         };
         let default_kind = STAGE_DEFAULT_KINDS
             .iter()
@@ -62,7 +84,7 @@ impl Registry {
             Some(toml::Value::String(s)) => s,
             Some(other) => {
                 return Err(invalid(
-                    format!("{section}.kind"),
+                    format!("{path}.kind"),
                     format!(
                         "expected a string, found a value of type {}",
                         other.type_str()
@@ -74,11 +96,15 @@ impl Registry {
         if kind == "none" && optional {
             if let Some(key) = params.keys().next() {
                 return Err(invalid(
-                    format!("{section}.{key}"),
-                    format!("`{section}.kind = \"none\"` takes no parameters"),
+                    format!("{path}.{key}"),
+                    format!("`{path}.kind = \"none\"` takes no parameters"),
                 ));
             }
-            return Ok(StageConfig { kind, params });
+            return Ok(StageConfig {
+                kind,
+                params,
+                by_image,
+            });
         }
         let resolved = self
             .resolve_params(section, &kind, &params)
@@ -88,38 +114,64 @@ impl Registry {
                     allowed.insert(0, "none");
                 }
                 ConfigError::UnknownKind {
-                    origin: raw.origin.clone(),
-                    section: section.into(),
+                    origin: origin.into(),
+                    section: path.into(),
                     kind: kind.clone(),
                     allowed: allowed.join(", "),
                 }
             })?;
-        let params = resolved.map_err(|(path, message)| {
-            let path = if path.is_empty() {
-                section.to_string()
+        let params = resolved.map_err(|(key, message)| {
+            let key = if key.is_empty() {
+                path.to_string()
             } else {
-                format!("{section}.{path}")
+                format!("{path}.{key}")
             };
-            invalid(path, format!("{message} (backend `{kind}`)"))
+            invalid(key, format!("{message} (backend `{kind}`)"))
         })?;
-        Ok(StageConfig { kind, params })
+        Ok(StageConfig {
+            kind,
+            params,
+            by_image,
+        })
+    }
+
+    fn resolve_by_image(
+        &self,
+        origin: &str,
+        section: &str,
+        value: &toml::Value,
+    ) -> Result<BTreeMap<String, StageConfig>, ConfigError> {
+        let path = format!("{section}.{BY_IMAGE_KEY}");
+        let table = expect_table(origin, &path, value)?;
+        let mut out = BTreeMap::new();
+        for (image, entry) in table {
+            let entry_path = format!("{path}.{image}");
+            let params = expect_table(origin, &entry_path, &entry)?;
+            let stage = self.resolve_stage_table(origin, section, &entry_path, params)?;
+            out.insert(image, stage);
+        }
+        Ok(out)
+    }
+}
+
+fn expect_table(origin: &str, path: &str, value: &toml::Value) -> Result<toml::Table, ConfigError> {
+    match value {
+        toml::Value::Table(t) => Ok(t.clone()),
+        other => Err(ConfigError::Invalid {
+            origin: origin.into(),
+            path: path.into(),
+            message: format!(
+                "expected a table `[{path}]`, found a value of type {}",
+                other.type_str()
+            ),
+        }),
     }
 }
 
 fn resolve_output(raw: &RawConfig) -> Result<OutputConfig, ConfigError> {
     let table = match raw.table.get("output") {
         None => return Ok(OutputConfig::default()),
-        Some(toml::Value::Table(t)) => t.clone(),
-        Some(other) => {
-            return Err(ConfigError::Invalid {
-                origin: raw.origin.clone(),
-                path: "output".into(),
-                message: format!(
-                    "expected a table `[output]`, found a value of type {}",
-                    other.type_str()
-                ),
-            })
-        }
+        Some(value) => expect_table(&raw.origin, "output", value)?,
     };
     parse_params::<OutputConfig>(&table).map_err(|(path, message)| ConfigError::Invalid {
         origin: raw.origin.clone(),

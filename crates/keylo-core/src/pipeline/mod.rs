@@ -1,6 +1,10 @@
 //! Composes the stages: [`Odometry`] turns frames into poses; [`Pipeline`] adds the source.
 
+mod per_image;
+
 use std::time::Instant;
+
+pub use per_image::PerImage;
 
 use crate::config::{PipelineConfig, StageConfig};
 use crate::registry::Backends;
@@ -45,10 +49,12 @@ pub struct FrameResult {
 /// The per-frame stages, without a source: embed this to feed frames yourself.
 pub struct Odometry {
     pub image: Option<Box<dyn ImageBuilder>>,
-    pub detector: Option<Box<dyn Detector>>,
-    pub descriptor: Option<Box<dyn Descriptor>>,
+    pub detector: PerImage<dyn Detector>,
+    pub descriptor: PerImage<dyn Descriptor>,
     pub downsampler: Box<dyn Downsampler>,
     pub registrar: Box<dyn Registrar>,
+    /// Whether the per-image overrides were checked against the images of a first frame.
+    checked_images: bool,
 }
 
 fn build_stage<T: ?Sized + 'static>(
@@ -66,7 +72,7 @@ fn build_stage<T: ?Sized + 'static>(
     factory.build(&stage.params, ctx)
 }
 
-fn build_optional<T: ?Sized + 'static>(
+pub(crate) fn build_optional<T: ?Sized + 'static>(
     backends: &Backends<T>,
     section: &str,
     stage: &StageConfig,
@@ -86,8 +92,8 @@ impl Odometry {
         };
         let odometry = Self {
             image: build_optional(&registry.images, "image", &config.image, &ctx)?,
-            detector: build_optional(&registry.detectors, "detector", &config.detector, &ctx)?,
-            descriptor: build_optional(
+            detector: PerImage::build(&registry.detectors, "detector", &config.detector, &ctx)?,
+            descriptor: PerImage::build(
                 &registry.descriptors,
                 "descriptor",
                 &config.descriptor,
@@ -100,8 +106,9 @@ impl Odometry {
                 &ctx,
             )?,
             registrar: build_stage(&registry.registrars, "registrar", &config.registrar, &ctx)?,
+            checked_images: false,
         };
-        if odometry.detector.is_some() && odometry.image.is_none() {
+        if odometry.detector.any() && odometry.image.is_none() {
             return Err(CoreError::stage(
                 "detector",
                 "a detector needs images: set `[image] kind` to an image builder",
@@ -165,18 +172,21 @@ impl Odometry {
         let t = Instant::now();
         let images = builder.build(frame)?;
         timings.image = t.elapsed().as_secs_f64();
+        if !self.checked_images {
+            self.check_image_names(&images)?;
+        }
         for image in images {
+            let name = image.name();
             let t = Instant::now();
-            let mut keypoints = match self.detector.as_mut() {
-                Some(d) => d.detect(&image)?,
-                None => Vec::new(),
+            let (mut keypoints, mut descriptors) = match self.detector.for_image(&name) {
+                Some(d) => d.detect_and_describe(&image)?,
+                None => (Vec::new(), None),
             };
             timings.detect += t.elapsed().as_secs_f64();
             let t = Instant::now();
-            let descriptors = match self.descriptor.as_mut() {
-                Some(d) => Some(d.describe(&image, &mut keypoints)?),
-                None => None,
-            };
+            if let Some(d) = self.descriptor.for_image(&name) {
+                descriptors = Some(d.describe(&image, &mut keypoints)?);
+            }
             timings.describe += t.elapsed().as_secs_f64();
             features.per_image.push(ChannelFeatures {
                 image,
@@ -185,6 +195,28 @@ impl Odometry {
             });
         }
         Ok(features)
+    }
+
+    /// Every `by_image` override must name an image the image builder makes.
+    fn check_image_names(&mut self, images: &[crate::Image]) -> Result<(), CoreError> {
+        let names: Vec<String> = images.iter().map(crate::Image::name).collect();
+        let unknown = [
+            ("detector", self.detector.unknown_images(&names)),
+            ("descriptor", self.descriptor.unknown_images(&names)),
+        ];
+        for (section, list) in unknown {
+            if let Some(image) = list.first() {
+                return Err(CoreError::stage(
+                    section,
+                    format!(
+                        "`[{section}.by_image.{image}]` names no image; the image builder makes: {}",
+                        names.join(", ")
+                    ),
+                ));
+            }
+        }
+        self.checked_images = true;
+        Ok(())
     }
 }
 
