@@ -65,10 +65,8 @@ pub fn to_cv_keypoints(keypoints: &[Keypoint]) -> Result<Vector<KeyPoint>, Featu
     keypoints
         .iter()
         .map(|k| {
-            KeyPoint::new_coords(
-                k.x, k.y, k.size, k.angle, k.response, k.octave, k.class_id,
-            )
-            .map_err(|e| FeaturesError::opencv("KeyPoint::new", e))
+            KeyPoint::new_coords(k.x, k.y, k.size, k.angle, k.response, k.octave, k.class_id)
+                .map_err(|e| FeaturesError::opencv("KeyPoint::new", e))
         })
         .collect()
 }

@@ -2,12 +2,16 @@
 //! (OpenCV, native BRIEF/FREAK, SuperPoint), matching, and the keypoint-neighbourhood
 //! downsampler of the paper.
 
+pub mod classic;
 pub mod cv;
 mod error;
+pub mod image;
 
-pub use error::FeaturesError;
-#[allow(unused_imports)]
 pub(crate) use error::check;
+pub use error::FeaturesError;
 
 /// Registers this crate's backends.
-pub fn register(_registry: &mut keylo_core::Registry) {}
+pub fn register(registry: &mut keylo_core::Registry) {
+    image::register(registry);
+    classic::register(registry);
+}

@@ -1,0 +1,82 @@
+//! Classic detectors and descriptors through OpenCV: `shi-tomasi`, `harris`, `fast`,
+//! `brisk`, `sift`, `akaze`, `kaze`, `orb`, and `surf` (an explanatory error here).
+
+mod akaze;
+mod brisk;
+mod fast;
+mod feature;
+mod gftt;
+mod orb;
+mod sift;
+mod surf;
+
+pub use akaze::{AkazeDescriptor, AkazeParams, Diffusivity, KazeParams};
+pub use brisk::BriskParams;
+pub use fast::{FastParams, FastType};
+pub use feature::{CvFeature, CvParams};
+pub use gftt::{GfttParams, HarrisParams, ShiTomasiParams};
+pub use orb::{OrbParams, OrbScore};
+pub use sift::SiftParams;
+pub use surf::SurfParams;
+
+use keylo_core::Registry;
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
+trait Params:
+    CvParams + DeserializeOwned + Serialize + schemars::JsonSchema + Default + 'static
+{
+}
+impl<P> Params for P where
+    P: CvParams + DeserializeOwned + Serialize + schemars::JsonSchema + Default + 'static
+{
+}
+
+fn add_detector<P: Params>(registry: &mut Registry, summary: &'static str) {
+    registry.detectors.add::<P>(P::KIND, summary, |p, _| {
+        Ok(Box::new(
+            CvFeature::new(&p).map_err(|e| e.in_stage("detector"))?,
+        ))
+    });
+}
+
+fn add_descriptor<P: Params>(registry: &mut Registry, summary: &'static str) {
+    registry.descriptors.add::<P>(P::KIND, summary, |p, _| {
+        Ok(Box::new(
+            CvFeature::new(&p).map_err(|e| e.in_stage("descriptor"))?,
+        ))
+    });
+}
+
+/// Registers the OpenCV detectors and descriptors.
+pub fn register(registry: &mut Registry) {
+    add_detector::<ShiTomasiParams>(registry, "Shi-Tomasi corners (OpenCV GFTTDetector)");
+    add_detector::<HarrisParams>(
+        registry,
+        "Harris corners (OpenCV GFTTDetector, Harris score)",
+    );
+    add_detector::<FastParams>(registry, "FAST corners (OpenCV FastFeatureDetector)");
+    add_detector::<BriskParams>(registry, "BRISK keypoints (OpenCV)");
+    add_detector::<SiftParams>(registry, "SIFT keypoints (OpenCV)");
+    add_detector::<AkazeParams>(registry, "AKAZE keypoints (OpenCV)");
+    add_detector::<KazeParams>(registry, "KAZE keypoints (OpenCV)");
+    add_detector::<OrbParams>(registry, "ORB keypoints (OpenCV)");
+    add_descriptor::<BriskParams>(registry, "BRISK binary descriptor (OpenCV)");
+    add_descriptor::<SiftParams>(registry, "SIFT 128-d float descriptor (OpenCV)");
+    add_descriptor::<AkazeParams>(registry, "AKAZE descriptor (OpenCV; needs AKAZE keypoints)");
+    add_descriptor::<KazeParams>(
+        registry,
+        "KAZE float descriptor (OpenCV; needs KAZE keypoints)",
+    );
+    add_descriptor::<OrbParams>(registry, "ORB (oriented BRIEF) binary descriptor (OpenCV)");
+    registry.detectors.add::<SurfParams>(
+        "surf",
+        "SURF (needs OpenCV's non-free xfeatures2d, absent from Debian's OpenCV)",
+        |_, _| Err(surf::unavailable().in_stage("detector")),
+    );
+    registry.descriptors.add::<SurfParams>(
+        "surf",
+        "SURF descriptor (needs OpenCV's non-free xfeatures2d, absent from Debian's OpenCV)",
+        |_, _| Err(surf::unavailable().in_stage("descriptor")),
+    );
+}
