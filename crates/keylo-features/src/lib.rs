@@ -6,6 +6,7 @@ pub mod classic;
 pub mod cv;
 mod error;
 pub mod image;
+pub mod neighbourhood;
 
 pub(crate) use error::check;
 pub use error::FeaturesError;
@@ -14,4 +15,5 @@ pub use error::FeaturesError;
 pub fn register(registry: &mut keylo_core::Registry) {
     image::register(registry);
     classic::register(registry);
+    neighbourhood::register(registry);
 }

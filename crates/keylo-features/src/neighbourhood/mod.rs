@@ -1,0 +1,76 @@
+//! The paper's downsampler: the frame points under K×K windows around keypoints.
+
+mod config;
+mod index_math;
+mod select;
+
+pub use config::{Mapping, NeighbourhoodConfig, TooFew, Windows};
+pub use index_math::{clip_rows, cover, stride_pixel, window, wrap_col};
+pub use select::select_pixels;
+
+use std::collections::BTreeMap;
+
+use keylo_core::{CoreError, Downsampler, FrameFeatures, LidarFrame, PointCloud};
+
+use crate::check;
+
+/// `keypoint-neighbourhood`: the points of every keypoint's window, with their times.
+pub struct KeypointNeighbourhood {
+    config: NeighbourhoodConfig,
+    sizes: BTreeMap<String, usize>,
+}
+
+impl KeypointNeighbourhood {
+    /// Checks the config.
+    pub fn new(config: NeighbourhoodConfig) -> Result<Self, CoreError> {
+        let sizes = config
+            .windows
+            .sizes()
+            .map_err(|e| e.in_stage("downsampler"))?;
+        check(
+            config.min_points >= 1,
+            "min_points",
+            config.min_points,
+            "expected >= 1",
+        )
+        .map_err(|e| e.in_stage("downsampler"))?;
+        Ok(Self { config, sizes })
+    }
+}
+
+impl Downsampler for KeypointNeighbourhood {
+    fn downsample(
+        &mut self,
+        frame: &LidarFrame,
+        features: &FrameFeatures,
+    ) -> Result<PointCloud, CoreError> {
+        let pixels = select_pixels(frame, features, &self.sizes, self.config.mapping)
+            .map_err(|e| e.in_stage("downsampler"))?;
+        if pixels.len() >= self.config.min_points {
+            return Ok(frame.cloud_of_pixels(pixels.into_iter()));
+        }
+        match self.config.on_too_few {
+            TooFew::AllPoints => Ok(frame.to_cloud()),
+            TooFew::Error => Err(CoreError::BadFrame {
+                frame: frame.index,
+                message: format!(
+                    "too few points: the keypoint windows selected {} valid points from {} \
+                     keypoints, fewer than downsampler.min_points = {} (set \
+                     downsampler.on_too_few = \"all-points\" to register the whole frame instead)",
+                    pixels.len(),
+                    features.keypoint_count(),
+                    self.config.min_points
+                ),
+            }),
+        }
+    }
+}
+
+/// Registers downsampler `keypoint-neighbourhood`.
+pub fn register(registry: &mut keylo_core::Registry) {
+    registry.downsamplers.add::<NeighbourhoodConfig>(
+        "keypoint-neighbourhood",
+        "the frame points under K×K windows around every keypoint (the paper's method)",
+        |config, _ctx| Ok(Box::new(KeypointNeighbourhood::new(config)?)),
+    );
+}
