@@ -46,6 +46,23 @@ impl PointCloud {
         self.points.is_empty()
     }
 
+    /// The points at `indices` (in that order; each `< len()`) with their times and
+    /// intensities.
+    pub fn subset(&self, indices: &[usize]) -> PointCloud {
+        PointCloud {
+            timestamp: self.timestamp,
+            points: indices.iter().map(|&i| self.points[i]).collect(),
+            times: self
+                .times
+                .as_ref()
+                .map(|t| indices.iter().map(|&i| t[i]).collect()),
+            intensities: self
+                .intensities
+                .as_ref()
+                .map(|v| indices.iter().map(|&i| v[i]).collect()),
+        }
+    }
+
     /// Index of the first point with a non-finite coordinate or time, if any.
     pub fn first_non_finite(&self) -> Option<usize> {
         let bad_point = self

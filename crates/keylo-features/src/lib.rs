@@ -2,6 +2,7 @@
 //! (OpenCV, native BRIEF/FREAK, SuperPoint), matching, and the keypoint-neighbourhood
 //! downsampler of the paper.
 
+pub mod budget;
 pub mod classic;
 pub mod cv;
 mod error;
@@ -16,4 +17,5 @@ pub fn register(registry: &mut keylo_core::Registry) {
     image::register(registry);
     classic::register(registry);
     neighbourhood::register(registry);
+    budget::register(registry);
 }

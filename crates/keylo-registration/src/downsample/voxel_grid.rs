@@ -64,27 +64,11 @@ impl Downsampler for VoxelDownsampler {
     ) -> Result<PointCloud, CoreError> {
         let full = frame.to_cloud();
         Ok(match self.config.keep {
-            VoxelKeep::First => select(
-                &full,
-                &downsample_indices(&full.points, self.config.voxel_size),
-            ),
+            VoxelKeep::First => {
+                full.subset(&downsample_indices(&full.points, self.config.voxel_size))
+            }
             VoxelKeep::Centroid => centroids(&full, self.config.voxel_size),
         })
-    }
-}
-
-fn select(cloud: &PointCloud, idx: &[usize]) -> PointCloud {
-    PointCloud {
-        timestamp: cloud.timestamp,
-        points: idx.iter().map(|&i| cloud.points[i]).collect(),
-        times: cloud
-            .times
-            .as_ref()
-            .map(|t| idx.iter().map(|&i| t[i]).collect()),
-        intensities: cloud
-            .intensities
-            .as_ref()
-            .map(|v| idx.iter().map(|&i| v[i]).collect()),
     }
 }
 

@@ -1,0 +1,72 @@
+//! Same-budget baselines for the keypoint-neighbourhood downsampler: `random` and
+//! `voxel-budget` keep as many points as a fixed count or as the keypoint windows of the
+//! same frame select, so a comparison isolates *which* points are chosen from *how many*.
+
+mod random;
+mod voxel;
+
+pub use random::{RandomConfig, RandomDownsampler};
+pub use voxel::{VoxelBudgetConfig, VoxelBudgetDownsampler};
+
+use std::collections::BTreeMap;
+
+use keylo_core::{CoreError, FrameFeatures, LidarFrame};
+
+use crate::neighbourhood::{select_pixels, Mapping, Windows};
+
+/// How many points a baseline keeps in one frame.
+pub(crate) struct Budget {
+    points: usize,
+    sizes: BTreeMap<String, usize>,
+    mapping: Mapping,
+}
+
+impl Budget {
+    pub(crate) fn new(
+        points: usize,
+        windows: &Windows,
+        mapping: Mapping,
+    ) -> Result<Self, CoreError> {
+        let sizes = windows.sizes().map_err(|e| e.in_stage("downsampler"))?;
+        Ok(Self {
+            points,
+            sizes,
+            mapping,
+        })
+    }
+
+    /// The point count for `frame`: the fixed count, or what the keypoint windows select.
+    pub(crate) fn for_frame(
+        &self,
+        frame: &LidarFrame,
+        features: &FrameFeatures,
+    ) -> Result<usize, CoreError> {
+        if self.points > 0 {
+            return Ok(self.points);
+        }
+        if features.per_image.is_empty() {
+            return Err(CoreError::stage(
+                "downsampler",
+                "`points = 0` matches the keypoint-neighbourhood budget and needs keypoints: \
+                 configure [image] and [detector], or set `points` to a fixed count",
+            ));
+        }
+        select_pixels(frame, features, &self.sizes, self.mapping)
+            .map(|p| p.len())
+            .map_err(|e| e.in_stage("downsampler"))
+    }
+}
+
+/// Registers downsamplers `random` and `voxel-budget`.
+pub fn register(registry: &mut keylo_core::Registry) {
+    registry.downsamplers.add::<RandomConfig>(
+        "random",
+        "uniformly random valid points, as many as a fixed count or the keypoint windows select",
+        |config, _ctx| Ok(Box::new(RandomDownsampler::new(config)?)),
+    );
+    registry.downsamplers.add::<VoxelBudgetConfig>(
+        "voxel-budget",
+        "a voxel grid sized per frame to keep a fixed count or as many points as the keypoint windows select",
+        |config, _ctx| Ok(Box::new(VoxelBudgetDownsampler::new(config)?)),
+    );
+}
