@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Detect (+ describe) time per detector/descriptor combination: keylo vs OpenCV from Python,
+# on the same 1024x64 real Ouster signal images with the same parameters, in one run.
+# Usage: scripts/bench/detect_vs_opencv_python.sh [PCAP] [REPEATS]
+# Python: KEYLO_CV_PYTHON (default /usr/bin/python3, which needs Debian's python3-opencv:
+# the same OpenCV 4.6 keylo links, so the ratio is keylo's overhead).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+pcap="${1:-tests/fixtures/ouster/OS-0-128_v3.0.1_1024x10_from_osf.pcap}"
+repeats="${2:-50}"
+python="${KEYLO_CV_PYTHON:-/usr/bin/python3}"
+images="$(mktemp -d)"
+trap 'rm -rf "$images"' EXIT
+cargo build -q --release -p keylo-features --example detect_timing
+keylo_json=$(./target/release/examples/detect_timing "$pcap" "$images" "$repeats")
+cv_json=$("$python" scripts/bench/opencv_python_detect_timing.py "$images" "$repeats")
+python3 - "$keylo_json" "$cv_json" <<'PY'
+import json, sys
+k, c = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+print(f"images: {k['images']} (keylo) / {c['images']} ({c['tool']})")
+print(f"{'combination':18} {'keylo ms':>9} {'python ms':>10} {'ratio':>6} {'kp keylo':>9} {'kp python':>9}")
+for name, ms in k["ms_per_image"].items():
+    p = c["ms_per_image"][name]
+    print(f"{name:18} {ms:9.3f} {p:10.3f} {ms / p:6.2f} {k['keypoints_per_image'][name]:9.1f} {c['keypoints_per_image'][name]:9.1f}")
+PY
