@@ -1,18 +1,23 @@
 #!/usr/bin/env bash
 # Detect (+ describe) time per detector/descriptor combination: keylo vs OpenCV from Python,
 # on the same 1024x64 real Ouster signal images with the same parameters, in one run.
-# Usage: scripts/bench/detect_vs_opencv_python.sh [PCAP] [REPEATS]
+# Usage: scripts/bench/detect_vs_opencv_python.sh [REPEATS] [PCAP...]
+# (default: the OS-0-128 and OS-2-128 samples with signal images: 3 frames)
 # Python: KEYLO_CV_PYTHON (default /usr/bin/python3, which needs Debian's python3-opencv:
 # the same OpenCV 4.6 keylo links, so the ratio is keylo's overhead).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-pcap="${1:-tests/fixtures/ouster/OS-0-128_v3.0.1_1024x10_from_osf.pcap}"
-repeats="${2:-50}"
+repeats="${1:-50}"
+shift || true
+if [ "$#" -eq 0 ]; then
+  set -- tests/fixtures/ouster/OS-0-128_v3.0.1_1024x10_from_osf.pcap \
+    tests/fixtures/ouster/OS-2-128-U1_v2.3.0_1024x10.pcap
+fi
 python="${KEYLO_CV_PYTHON:-/usr/bin/python3}"
 images="$(mktemp -d)"
 trap 'rm -rf "$images"' EXIT
 cargo build -q --release -p keylo-features --example detect_timing
-keylo_json=$(./target/release/examples/detect_timing "$pcap" "$images" "$repeats")
+keylo_json=$(./target/release/examples/detect_timing "$images" "$repeats" "$@")
 cv_json=$("$python" scripts/bench/opencv_python_detect_timing.py "$images" "$repeats")
 python3 - "$keylo_json" "$cv_json" <<'PY'
 import json, sys

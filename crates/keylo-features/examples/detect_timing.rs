@@ -1,8 +1,8 @@
 //! Times detect (+ describe) per detector/descriptor combination on real 1024×64 LiDAR
 //! signal images, for `scripts/bench/detect_vs_opencv_python.sh`.
 //!
-//! Usage: detect_timing PCAP IMAGE_DIR REPEATS
-//! Builds the signal images of every frame of PCAP with the default `lidar` image builder
+//! Usage: detect_timing IMAGE_DIR REPEATS PCAP...
+//! Builds the signal images of every frame of every PCAP with the default `lidar` image builder
 //! (1024×64, linear), writes them to IMAGE_DIR as PNG (the Python side reads the same files),
 //! then prints one JSON object: milliseconds per image for each combination.
 
@@ -32,19 +32,23 @@ pub const COMBOS: [(&str, &str, &str, &str); 11] = [
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let (pcap, out, repeats) = match args.as_slice() {
-        [_, p, o, r] => (p.clone(), std::path::PathBuf::from(o), r.parse::<usize>()?),
-        _ => return Err("usage: detect_timing PCAP IMAGE_DIR REPEATS".into()),
+    let (out, repeats, pcaps) = match args.as_slice() {
+        [_, o, r, pcaps @ ..] if !pcaps.is_empty() => {
+            (std::path::PathBuf::from(o), r.parse::<usize>()?, pcaps)
+        }
+        _ => return Err("usage: detect_timing IMAGE_DIR REPEATS PCAP...".into()),
     };
-    let config = OusterSourceConfig {
-        path: pcap,
-        ..OusterSourceConfig::default()
-    };
-    let mut source = OusterSource::open(&config, &BuildContext::default())?;
     let mut builder = LidarImageBuilder::new(LidarImageConfig::default())?;
     let mut images = Vec::new();
-    while let Some(frame) = source.next_frame() {
-        images.extend(builder.build(&frame?)?);
+    for pcap in pcaps {
+        let config = OusterSourceConfig {
+            path: pcap.clone(),
+            ..OusterSourceConfig::default()
+        };
+        let mut source = OusterSource::open(&config, &BuildContext::default())?;
+        while let Some(frame) = source.next_frame() {
+            images.extend(builder.build(&frame?)?);
+        }
     }
     std::fs::create_dir_all(&out)?;
     for (i, img) in images.iter().enumerate() {
