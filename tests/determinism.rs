@@ -4,14 +4,25 @@
 use keylo::config::RawConfig;
 use keylo::Pipeline;
 
+const RAW: &str = "[source]\nscene = 'road'\nframes = 15\n";
+
+const KEYPOINTS: &str = "[source]\nscene = 'road'\nframes = 15\n\
+    [image]\nkind = 'lidar'\nimages = ['signal', 'range']\n\
+    [detector]\nkind = 'orb'\n\
+    [downsampler]\nkind = 'keypoint-neighbourhood'\nwindows = '4_7'\non_too_few = 'all-points'\n";
+
 fn run_with_threads(threads: usize) -> Vec<[u64; 7]> {
+    run_config(RAW, threads)
+}
+
+fn run_config(text: &str, threads: usize) -> Vec<[u64; 7]> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
     pool.install(|| {
         let registry = keylo::registry();
-        let raw = RawConfig::parse("test", "[source]\nscene = 'road'\nframes = 15\n").unwrap();
+        let raw = RawConfig::parse("test", text).unwrap();
         let config = registry.resolve(&raw).unwrap();
         let mut pipeline = Pipeline::build(&config, &registry).unwrap();
         let mut poses = Vec::new();
@@ -35,4 +46,11 @@ fn trajectories_are_bit_identical_across_runs_and_thread_counts() {
         run_with_threads(3),
         "one thread and three threads differ"
     );
+}
+
+#[test]
+fn keypoint_pipeline_is_bit_identical_across_runs() {
+    let one = run_config(KEYPOINTS, 2);
+    assert_eq!(one.len(), 15);
+    assert_eq!(one, run_config(KEYPOINTS, 2), "two keypoint runs differ");
 }

@@ -17,11 +17,26 @@ use keylo_io::ouster::{OusterSource, OusterSourceConfig};
 /// Parameters are OpenCV's defaults except where the paper changed them (FAST threshold 30,
 /// GFTT block size 4 / min distance 4 / max corners rows·cols/4).
 pub const COMBOS: [(&str, &str, &str, &str); 11] = [
-    ("shi-tomasi", "shi-tomasi", "block_size = 4\nmin_distance = 4.0\nmax_corners = 16384", ""),
-    ("harris", "harris", "block_size = 4\nmin_distance = 4.0\nmax_corners = 16384", ""),
+    (
+        "shi-tomasi",
+        "shi-tomasi",
+        "block_size = 4\nmin_distance = 4.0\nmax_corners = 16384",
+        "",
+    ),
+    (
+        "harris",
+        "harris",
+        "block_size = 4\nmin_distance = 4.0\nmax_corners = 16384",
+        "",
+    ),
     ("fast", "fast", "threshold = 30", ""),
     ("fast_orb", "fast", "threshold = 30", "orb"),
-    ("shi-tomasi_sift", "shi-tomasi", "block_size = 4\nmin_distance = 4.0\nmax_corners = 16384", "sift"),
+    (
+        "shi-tomasi_sift",
+        "shi-tomasi",
+        "block_size = 4\nmin_distance = 4.0\nmax_corners = 16384",
+        "sift",
+    ),
     ("akaze_akaze", "akaze", "describe = true", ""),
     ("orb_orb", "orb", "describe = true", ""),
     ("brisk_brisk", "brisk", "describe = true", ""),
@@ -65,7 +80,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut counts = serde_json::Map::new();
     for (name, det_kind, det_params, desc_kind) in COMBOS {
         let f = registry.detectors.get(det_kind).ok_or("detector")?;
-        let mut det: Box<dyn Detector> = f.build(&f.resolve(&det_params.parse()?).map_err(|e| e.1)?, &ctx)?;
+        let mut det: Box<dyn Detector> =
+            f.build(&f.resolve(&det_params.parse()?).map_err(|e| e.1)?, &ctx)?;
         let mut desc: Option<Box<dyn Descriptor>> = match desc_kind {
             "" => None,
             kind => {
