@@ -29,6 +29,7 @@ pub const EXIT_FRAME_FAILED: u8 = 3;
 pub const EXIT_INTERRUPTED: u8 = 130;
 
 fn main() -> ExitCode {
+    keylo::features::keep_native_heap();
     let cli = Cli::parse();
     init_logging(cli.verbose, cli.quiet);
     if let Some(n) = cli.threads {

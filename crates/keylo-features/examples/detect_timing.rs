@@ -46,6 +46,8 @@ pub const COMBOS: [(&str, &str, &str, &str); 11] = [
 ];
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    // As the `keylo` binary does (see keep_native_heap).
+    keylo_features::keep_native_heap();
     let args: Vec<String> = std::env::args().collect();
     let (out, repeats, pcaps) = match args.as_slice() {
         [_, o, r, pcaps @ ..] if !pcaps.is_empty() => {

@@ -7,10 +7,12 @@ pub mod classic;
 pub mod cv;
 mod error;
 pub mod image;
+mod native_heap;
 pub mod neighbourhood;
 
 pub(crate) use error::check;
 pub use error::FeaturesError;
+pub use native_heap::keep_native_heap;
 
 /// Registers this crate's backends.
 pub fn register(registry: &mut keylo_core::Registry) {
