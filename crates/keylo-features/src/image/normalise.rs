@@ -147,14 +147,29 @@ fn map_valid(
     }
 }
 
+/// Most values the percentiles are taken from: larger frames are sampled with an even stride
+/// (a 131k-pixel frame: every 4th pixel), which moves a percentile by well under one of the
+/// 256 output levels and costs a quarter of the time.
+const PERCENTILE_SAMPLES: usize = 32_768;
+
 /// The `lo`-th and `hi`-th percentiles (0–100) of the finite valid values (nearest rank).
 fn percentiles(values: &[f32], valid: &[bool], lo: f64, hi: f64) -> Option<(f32, f32)> {
-    let mut v: Vec<f32> = values
-        .iter()
-        .zip(valid)
-        .filter(|(x, ok)| **ok && x.is_finite())
-        .map(|(x, _)| *x)
+    let stride = values.len().div_ceil(PERCENTILE_SAMPLES).max(1);
+    let n = values.len().min(valid.len());
+    let mut v: Vec<f32> = (0..n)
+        .step_by(stride)
+        .filter(|&i| valid[i] && values[i].is_finite())
+        .map(|i| values[i])
         .collect();
+    if v.is_empty() {
+        // Too sparse for the stride: use every valid value.
+        v = values
+            .iter()
+            .zip(valid)
+            .filter(|(x, ok)| **ok && x.is_finite())
+            .map(|(x, _)| *x)
+            .collect();
+    }
     if v.is_empty() {
         return None;
     }
