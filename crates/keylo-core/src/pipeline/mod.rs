@@ -4,6 +4,8 @@ mod per_image;
 
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 pub use per_image::PerImage;
 
 use crate::config::{PipelineConfig, StageConfig};
@@ -90,14 +92,23 @@ impl Odometry {
         let ctx = BuildContext {
             base_dir: config.base_dir.clone(),
         };
+        let image = build_optional(&registry.images, "image", &config.image, &ctx)?;
+        let names = image.as_ref().map(|b| b.image_names()).unwrap_or_default();
         let odometry = Self {
-            image: build_optional(&registry.images, "image", &config.image, &ctx)?,
-            detector: PerImage::build(&registry.detectors, "detector", &config.detector, &ctx)?,
+            image,
+            detector: PerImage::build(
+                &registry.detectors,
+                "detector",
+                &config.detector,
+                &ctx,
+                &names,
+            )?,
             descriptor: PerImage::build(
                 &registry.descriptors,
                 "descriptor",
                 &config.descriptor,
                 &ctx,
+                &names,
             )?,
             downsampler: build_stage(
                 &registry.downsamplers,
@@ -175,24 +186,43 @@ impl Odometry {
         if !self.checked_images {
             self.check_image_names(&images)?;
         }
-        for image in images {
-            let name = image.name();
-            let t = Instant::now();
-            let (mut keypoints, mut descriptors) = match self.detector.for_image(&name) {
-                Some(d) => d.detect_and_describe(&image)?,
-                None => (Vec::new(), None),
-            };
-            timings.detect += t.elapsed().as_secs_f64();
-            let t = Instant::now();
-            if let Some(d) = self.descriptor.for_image(&name) {
-                descriptors = Some(d.describe(&image, &mut keypoints)?);
-            }
-            timings.describe += t.elapsed().as_secs_f64();
-            features.per_image.push(ChannelFeatures {
-                image,
-                keypoints,
-                descriptors,
-            });
+        let names: Vec<String> = images.iter().map(crate::Image::name).collect();
+        let parallel = images.len() > 1
+            && self.detector.has_own_instances(&names)
+            && self.descriptor.has_own_instances(&names);
+        let t = Instant::now();
+        let results: Vec<Result<Extracted, CoreError>> = if parallel {
+            let detectors = self.detector.instances_for(&names);
+            let descriptors = self.descriptor.instances_for(&names);
+            images
+                .into_par_iter()
+                .zip(detectors)
+                .zip(descriptors)
+                .map(|((image, det), desc)| extract(image, det, desc))
+                .collect()
+        } else {
+            images
+                .into_iter()
+                .map(|image| {
+                    let name = image.name();
+                    let det = self.detector.for_image(&name);
+                    extract_one(image, det, &mut self.descriptor, &name)
+                })
+                .collect()
+        };
+        let wall = t.elapsed().as_secs_f64();
+        let (mut detect, mut describe) = (0.0, 0.0);
+        for r in results {
+            let e = r?;
+            detect += e.detect_s;
+            describe += e.describe_s;
+            features.per_image.push(e.features);
+        }
+        // Images ran side by side: split the section's wall time in proportion.
+        let busy = detect + describe;
+        if busy > 0.0 {
+            timings.detect = wall * detect / busy;
+            timings.describe = wall * describe / busy;
         }
         Ok(features)
     }
@@ -218,6 +248,50 @@ impl Odometry {
         self.checked_images = true;
         Ok(())
     }
+}
+
+/// One image's keypoints and descriptors, with the seconds each step took.
+struct Extracted {
+    features: ChannelFeatures,
+    detect_s: f64,
+    describe_s: f64,
+}
+
+/// Detects (and describes) the keypoints of one image.
+fn extract(
+    image: crate::Image,
+    detector: Option<&mut (dyn Detector + 'static)>,
+    descriptor: Option<&mut (dyn Descriptor + 'static)>,
+) -> Result<Extracted, CoreError> {
+    let t = Instant::now();
+    let (mut keypoints, mut descriptors) = match detector {
+        Some(d) => d.detect_and_describe(&image)?,
+        None => (Vec::new(), None),
+    };
+    let detect_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    if let Some(d) = descriptor {
+        descriptors = Some(d.describe(&image, &mut keypoints)?);
+    }
+    Ok(Extracted {
+        features: ChannelFeatures {
+            image,
+            keypoints,
+            descriptors,
+        },
+        detect_s,
+        describe_s: t.elapsed().as_secs_f64(),
+    })
+}
+
+/// [`extract`] with the descriptor looked up by image name (sequential path).
+fn extract_one(
+    image: crate::Image,
+    detector: Option<&mut (dyn Detector + 'static)>,
+    descriptors: &mut PerImage<dyn Descriptor>,
+    name: &str,
+) -> Result<Extracted, CoreError> {
+    extract(image, detector, descriptors.for_image(name))
 }
 
 /// Builds only the source of a resolved config (for tools that read data without running

@@ -7,4 +7,11 @@ use crate::{CoreError, Image, LidarFrame};
 pub trait ImageBuilder: Send {
     /// Images for one frame.
     fn build(&mut self, frame: &LidarFrame) -> Result<Vec<Image>, CoreError>;
+
+    /// The names ([`Image::name`]) of the images every frame yields, in order, when known in
+    /// advance. The pipeline then gives each image its own detector and descriptor instance
+    /// and runs the images in parallel. Empty (the default): unknown, one shared instance.
+    fn image_names(&self) -> Vec<String> {
+        Vec::new()
+    }
 }

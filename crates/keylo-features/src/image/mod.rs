@@ -54,6 +54,13 @@ impl LidarImageBuilder {
 }
 
 impl ImageBuilder for LidarImageBuilder {
+    fn image_names(&self) -> Vec<String> {
+        self.planes
+            .iter()
+            .map(|p| p.iter().map(|c| c.name()).collect::<Vec<_>>().join("+"))
+            .collect()
+    }
+
     fn build(&mut self, frame: &LidarFrame) -> Result<Vec<Image>, CoreError> {
         let (width, height) = self.size(frame);
         let mut images = Vec::with_capacity(self.planes.len());
