@@ -244,3 +244,66 @@ fn real_frames_shrink_and_stay_deterministic() {
         );
     }
 }
+
+#[test]
+fn matched_mode_keeps_keypoints_matching_the_previous_frame() {
+    use keylo_core::{ImageBuilder, Registry};
+    use keylo_features::image::{LidarImageBuilder, LidarImageConfig};
+    use keylo_features::neighbourhood::KeypointUse;
+    let frames = common::os0_frames();
+    assert!(frames.len() >= 2);
+    let mut registry = Registry::default();
+    keylo_features::register(&mut registry);
+    let factory = registry.detectors.get("akaze").unwrap();
+    let params = factory
+        .resolve(&"describe = true".parse().unwrap())
+        .unwrap();
+    let mut akaze = factory.build(&params, &Default::default()).unwrap();
+    let mut builder = LidarImageBuilder::new(LidarImageConfig::default()).unwrap();
+    let config = NeighbourhoodConfig {
+        windows: Windows::Preset("1_1".into()),
+        keypoints: KeypointUse::Matched,
+        min_points: 1,
+        ..NeighbourhoodConfig::default()
+    };
+    let mut matched = KeypointNeighbourhood::new(config.clone()).unwrap();
+    let mut all = KeypointNeighbourhood::new(NeighbourhoodConfig {
+        keypoints: KeypointUse::All,
+        ..config
+    })
+    .unwrap();
+    let mut counts = Vec::new();
+    for f in &frames[..2] {
+        let image = builder.build(f).unwrap().remove(0);
+        let (keypoints, descriptors) = akaze.detect_and_describe(&image).unwrap();
+        let feats = FrameFeatures {
+            per_image: vec![ChannelFeatures {
+                image,
+                keypoints,
+                descriptors,
+            }],
+        };
+        counts.push((
+            matched.downsample(f, &feats).unwrap().len(),
+            all.downsample(f, &feats).unwrap().len(),
+        ));
+    }
+    // First frame: nothing to match against, every keypoint counts.
+    assert_eq!(counts[0].0, counts[0].1);
+    // Second: only the best 90 % of the matches.
+    assert!(counts[1].0 < counts[1].1 && counts[1].0 > 0, "{counts:?}");
+
+    let bare = features(1024, 64, Channel::Signal, &[(5.0, 5.0)]);
+    let e = KeypointNeighbourhood::new(NeighbourhoodConfig {
+        keypoints: KeypointUse::Matched,
+        ..NeighbourhoodConfig::default()
+    })
+    .unwrap()
+    .downsample(&frames[0], &bare)
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("needs descriptors") && e.contains("describe = true"),
+        "{e}"
+    );
+}

@@ -83,6 +83,22 @@ pub enum TooFew {
     AllPoints,
 }
 
+/// Which keypoints select points.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum KeypointUse {
+    /// Every keypoint.
+    #[default]
+    All,
+    /// Only keypoints whose descriptor matches one of the previous frame's (same image; brute
+    /// force, best `matched_fraction` by distance; all keypoints on the first frame) — the
+    /// paper's published AKAZE path, which with `windows = "1_1"` also drops the window.
+    /// Needs descriptors (`describe = true` on the detector, or a `[descriptor]`).
+    Matched,
+}
+
 /// `[downsampler] kind = "keypoint-neighbourhood"`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
@@ -93,6 +109,11 @@ pub struct NeighbourhoodConfig {
     /// `exact` (every point the window covers) or `upstream-stride` (the published code's
     /// one point per window pixel).
     pub mapping: Mapping,
+    /// `all` keypoints, or only those `matched` to the previous frame.
+    pub keypoints: KeypointUse,
+    /// With `keypoints = "matched"`: the fraction of matches kept, best first (the
+    /// published code: 0.9).
+    pub matched_fraction: f64,
     /// Fewest points a frame may give.
     pub min_points: usize,
     /// Below `min_points`: `error`, or register `all-points` of the frame.
@@ -104,6 +125,8 @@ impl Default for NeighbourhoodConfig {
         Self {
             windows: Windows::default(),
             mapping: Mapping::Exact,
+            keypoints: KeypointUse::All,
+            matched_fraction: 0.9,
             min_points: 100,
             on_too_few: TooFew::Error,
         }

@@ -2,10 +2,12 @@
 
 mod config;
 mod index_math;
+mod matched;
 mod select;
 
-pub use config::{Mapping, NeighbourhoodConfig, TooFew, Windows};
+pub use config::{KeypointUse, Mapping, NeighbourhoodConfig, TooFew, Windows};
 pub use index_math::{clip_rows, cover, stride_pixel, window, wrap_col};
+pub use matched::MatchedFilter;
 pub use select::select_pixels;
 
 use std::collections::BTreeMap;
@@ -18,6 +20,7 @@ use crate::check;
 pub struct KeypointNeighbourhood {
     config: NeighbourhoodConfig,
     sizes: BTreeMap<String, usize>,
+    matched: Option<MatchedFilter>,
 }
 
 impl KeypointNeighbourhood {
@@ -34,7 +37,20 @@ impl KeypointNeighbourhood {
             "expected >= 1",
         )
         .map_err(|e| e.in_stage("downsampler"))?;
-        Ok(Self { config, sizes })
+        check(
+            config.matched_fraction > 0.0 && config.matched_fraction <= 1.0,
+            "matched_fraction",
+            config.matched_fraction,
+            "expected a fraction in (0, 1]",
+        )
+        .map_err(|e| e.in_stage("downsampler"))?;
+        let matched = (config.keypoints == KeypointUse::Matched)
+            .then(|| MatchedFilter::new(config.matched_fraction));
+        Ok(Self {
+            config,
+            sizes,
+            matched,
+        })
     }
 }
 
@@ -44,6 +60,14 @@ impl Downsampler for KeypointNeighbourhood {
         frame: &LidarFrame,
         features: &FrameFeatures,
     ) -> Result<PointCloud, CoreError> {
+        let filtered;
+        let features = match self.matched.as_mut() {
+            Some(m) => {
+                filtered = m.filter(features).map_err(|e| e.in_stage("downsampler"))?;
+                &filtered
+            }
+            None => features,
+        };
         let pixels = select_pixels(frame, features, &self.sizes, self.config.mapping)
             .map_err(|e| e.in_stage("downsampler"))?;
         if pixels.len() >= self.config.min_points {
