@@ -7,6 +7,7 @@ pub mod classic;
 pub mod cv;
 mod error;
 pub mod image;
+pub mod matching;
 mod native_heap;
 pub mod neighbourhood;
 

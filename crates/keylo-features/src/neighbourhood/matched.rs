@@ -3,12 +3,9 @@
 
 use std::collections::BTreeMap;
 
-use keylo_core::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
-use opencv::core::{DMatch, Vector, NORM_HAMMING, NORM_L2};
-use opencv::features2d::BFMatcher;
-use opencv::prelude::*;
+use keylo_core::{ChannelFeatures, Descriptors, FrameFeatures, Keypoint};
 
-use crate::cv::descriptors_to_mat;
+use crate::matching::cross_checked;
 use crate::FeaturesError;
 
 /// The previous frame's descriptors per image name, and the matching rule.
@@ -59,38 +56,12 @@ impl MatchedFilter {
         current: &Descriptors,
         previous: &Descriptors,
     ) -> Result<Vec<Keypoint>, FeaturesError> {
-        if current.rows == 0 || previous.rows == 0 {
-            return Ok(Vec::new());
-        }
-        if current.dim != previous.dim
-            || std::mem::discriminant(&current.data) != std::mem::discriminant(&previous.data)
-        {
-            return Err(FeaturesError::BadInput(format!(
-                "descriptors changed shape between frames ({} vs {} elements)",
-                previous.dim, current.dim
-            )));
-        }
-        let norm = match current.data {
-            DescriptorData::Binary(_) => NORM_HAMMING,
-            DescriptorData::Float(_) => NORM_L2,
-        };
-        let matcher =
-            BFMatcher::create(norm, false).map_err(|e| FeaturesError::opencv("BFMatcher", e))?;
-        let mut matches = Vector::<DMatch>::new();
-        matcher
-            .train_match_def(
-                &descriptors_to_mat(current)?,
-                &descriptors_to_mat(previous)?,
-                &mut matches,
-            )
-            .map_err(|e| FeaturesError::opencv("BFMatcher::match", e))?;
-        let mut list: Vec<DMatch> = matches.to_vec();
-        list.sort_by(|a, b| a.distance.total_cmp(&b.distance));
+        let list = cross_checked(current, previous, false)?;
         let keep = ((list.len() as f64) * self.fraction).round() as usize;
         Ok(list
             .iter()
             .take(keep)
-            .filter_map(|m| keypoints.get(usize::try_from(m.query_idx).ok()?).copied())
+            .filter_map(|m| keypoints.get(m.query).copied())
             .collect())
     }
 }
