@@ -10,6 +10,7 @@ pub mod image;
 pub mod matching;
 mod native_heap;
 pub mod neighbourhood;
+pub mod superpoint;
 
 pub(crate) use error::check;
 pub use error::FeaturesError;
@@ -21,4 +22,5 @@ pub fn register(registry: &mut keylo_core::Registry) {
     classic::register(registry);
     neighbourhood::register(registry);
     budget::register(registry);
+    superpoint::register(registry);
 }
