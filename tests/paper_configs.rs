@@ -1,4 +1,4 @@
-//! Every config in `configs/paper/` resolves, and runs as is on the real OS-0-128 sample
+//! Every config in `configs/paper/` (and the SuperPoint examples) resolves, and runs as is on the real OS-0-128 sample
 //! (what `keylo run FILE --data PCAP` does).
 
 use std::path::{Path, PathBuf};
@@ -6,12 +6,20 @@ use std::path::{Path, PathBuf};
 use keylo::config::RawConfig;
 use keylo::Pipeline;
 
+/// Every config of `configs/paper/`, plus the keypoint examples of `configs/examples/` that
+/// take their data from `--data` (`superpoint-*`).
 fn paper_configs() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/paper");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root.join("configs/paper"))
         .unwrap()
+        .chain(std::fs::read_dir(root.join("configs/examples")).unwrap())
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .filter(|p| {
+            p.parent().is_some_and(|d| d.ends_with("paper"))
+                || p.file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with("superpoint-"))
+        })
         .collect();
     files.sort();
     files

@@ -1,5 +1,5 @@
 //! Hot paths of the keypoint front end on a real OS-0-128 frame (1024×128): building the
-//! signal and range images (normalise + resize to 1024×64), AKAZE detection, and the
+//! signal and range images (normalise + resize to 1024×64), AKAZE and SuperPoint detection, and the
 //! keypoint-neighbourhood selection. Run: `cargo bench -p keylo-features`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -9,6 +9,7 @@ use keylo_core::{
 };
 use keylo_features::image::{LidarImageBuilder, LidarImageConfig};
 use keylo_features::neighbourhood::{KeypointNeighbourhood, NeighbourhoodConfig};
+use keylo_features::superpoint::{ExecutionProvider, SuperPoint, SuperPointParams};
 use keylo_io::ouster::{OusterSource, OusterSourceConfig};
 
 fn frame() -> LidarFrame {
@@ -59,6 +60,21 @@ fn bench(c: &mut Criterion) {
             })
             .collect(),
     };
+    let mut two_plane = LidarImageBuilder::new(LidarImageConfig {
+        images: vec!["signal+range".into()],
+        ..LidarImageConfig::default()
+    })
+    .expect("config");
+    let sr = two_plane.build(&frame).expect("image").remove(0);
+    let params = SuperPointParams {
+        execution_provider: ExecutionProvider::Cpu,
+        ..SuperPointParams::default()
+    };
+    let mut sp = SuperPoint::new(params, &BuildContext::default()).expect("superpoint");
+    c.bench_function(
+        "detect+describe: superpoint on signal+range (2 threads)",
+        |b| b.iter(|| sp.run(&sr).expect("superpoint")),
+    );
     let mut down = KeypointNeighbourhood::new(NeighbourhoodConfig::default()).expect("config");
     c.bench_function("downsample: keypoint-neighbourhood 4_7", |b| {
         b.iter(|| down.downsample(&frame, &features).expect("cloud"))
