@@ -60,34 +60,14 @@ pub fn mat_bytes(mat: &Mat) -> Result<Vec<u8>, FeaturesError> {
         .map_err(|e| FeaturesError::opencv("Mat::data_bytes", e))
 }
 
-/// keylo keypoints as OpenCV keypoints.
+/// keylo keypoints as OpenCV keypoints (one copy; see `cv_keypoints`).
 pub fn to_cv_keypoints(keypoints: &[Keypoint]) -> Result<Vector<KeyPoint>, FeaturesError> {
-    keypoints
-        .iter()
-        .map(|k| {
-            KeyPoint::new_coords(k.x, k.y, k.size, k.angle, k.response, k.octave, k.class_id)
-                .map_err(|e| FeaturesError::opencv("KeyPoint::new", e))
-        })
-        .collect()
+    crate::cv_keypoints::write(keypoints)
 }
 
-/// OpenCV keypoints as keylo keypoints.
+/// OpenCV keypoints as keylo keypoints (one copy; see `cv_keypoints`).
 pub fn from_cv_keypoints(keypoints: &Vector<KeyPoint>) -> Vec<Keypoint> {
-    keypoints
-        .iter()
-        .map(|kp| {
-            let pt = kp.pt();
-            Keypoint {
-                x: pt.x,
-                y: pt.y,
-                size: kp.size(),
-                angle: kp.angle(),
-                response: kp.response(),
-                octave: kp.octave(),
-                class_id: kp.class_id(),
-            }
-        })
-        .collect()
+    crate::cv_keypoints::read(keypoints)
 }
 
 /// An OpenCV descriptor matrix (rows = keypoints; `CV_8U` binary or `CV_32F` float).

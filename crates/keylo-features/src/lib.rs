@@ -5,6 +5,7 @@
 pub mod budget;
 pub mod classic;
 pub mod cv;
+mod cv_keypoints;
 mod error;
 pub mod image;
 pub mod matching;
