@@ -35,6 +35,8 @@ pub struct Batcher {
     port: Option<u16>,
     identity: (Option<u32>, Option<u64>),
     current: Option<RawFrame>,
+    /// A frame handed back with [`Self::recycle`], reused for the next frame id.
+    spare: Option<RawFrame>,
     done: bool,
     skipped: Skipped,
 }
@@ -53,6 +55,7 @@ impl Batcher {
             port,
             identity: (meta.init_id, meta.prod_sn),
             current: None,
+            spare: None,
             done: false,
             skipped: Skipped::default(),
         })
@@ -63,7 +66,13 @@ impl Batcher {
         self.skipped
     }
 
-    fn finish(&self, frame: RawFrame) -> BatchedFrame {
+    /// Hands a frame's buffers back for the next frame (no per-frame allocation and zeroing).
+    pub fn recycle(&mut self, frame: RawFrame) {
+        self.spare = Some(frame);
+    }
+
+    fn finish(&self, mut frame: RawFrame) -> BatchedFrame {
+        frame.clear_missing_columns();
         let (first, last) = self.window;
         let complete = frame
             .column_valid
@@ -116,9 +125,14 @@ impl Batcher {
                 Some(f) if f.frame_id != id => self.current.take(),
                 _ => None,
             };
-            let frame = self
-                .current
-                .get_or_insert_with(|| self.format.new_frame(id));
+            let (format, spare) = (&self.format, &mut self.spare);
+            let frame = self.current.get_or_insert_with(|| match spare.take() {
+                Some(mut f) => {
+                    f.reuse(id);
+                    f
+                }
+                None => format.new_frame(id),
+            });
             self.format.decode_into(&datagram.payload, frame);
             if let Some(f) = finished {
                 return Some(Ok(self.finish(f)));

@@ -33,6 +33,9 @@ struct RowOut<'a> {
     times: &'a mut [f64],
 }
 
+/// Rows destaggered together (16 u32 values = one cache line of a staggered column).
+const ROW_BLOCK: usize = 16;
+
 /// Which return of a dual-return profile fills the frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Return {
@@ -115,18 +118,20 @@ impl Destaggerer {
             raw,
             times: &staggered_times,
         };
-        // Rows are independent: destagger them in parallel, each into its own output rows.
-        let cols = self.cols;
+        // Rows are independent: destagger blocks of rows in parallel, each into its own
+        // output rows. A block reads the staggered (column-major) buffers a cache line per
+        // column instead of one value per cache line.
+        let block = ROW_BLOCK * self.cols;
         f.range
-            .par_chunks_mut(cols)
-            .zip(f.signal.par_chunks_mut(cols))
-            .zip(f.reflectivity.par_chunks_mut(cols))
-            .zip(f.near_ir.par_chunks_mut(cols))
-            .zip(f.points.par_chunks_mut(cols))
-            .zip(f.valid.par_chunks_mut(cols))
-            .zip(pixel_times.par_chunks_mut(cols))
+            .par_chunks_mut(block)
+            .zip(f.signal.par_chunks_mut(block))
+            .zip(f.reflectivity.par_chunks_mut(block))
+            .zip(f.near_ir.par_chunks_mut(block))
+            .zip(f.points.par_chunks_mut(block))
+            .zip(f.valid.par_chunks_mut(block))
+            .zip(pixel_times.par_chunks_mut(block))
             .enumerate()
-            .for_each(|(r, ((((((rg, sg), rf), nir), pts), ok), t))| {
+            .for_each(|(b, ((((((rg, sg), rf), nir), pts), ok), t))| {
                 let out = RowOut {
                     range: rg,
                     signal: sg,
@@ -136,7 +141,7 @@ impl Destaggerer {
                     valid: ok,
                     times: t,
                 };
-                self.row(r, &input, out);
+                self.rows_block(b * ROW_BLOCK, &input, out);
             });
         f.column_times = (0..self.cols)
             .map(|c| staggered_times[(c + self.cols - self.median_shift) % self.cols])
@@ -145,25 +150,34 @@ impl Destaggerer {
         f
     }
 
-    /// Destaggers row `r`: destaggered column `c` is staggered column `c - shift` (mod cols).
-    fn row(&self, r: usize, input: &Staggered, out: RowOut) {
-        let shift = self.shifts[r];
-        for c in 0..self.cols {
-            let m = if c >= shift {
-                c - shift
-            } else {
-                c + self.cols - shift
-            };
-            let src = m * self.rows + r;
-            out.times[c] = input.times[m];
-            out.signal[c] = input.signal[src] as f32;
-            out.reflectivity[c] = input.reflectivity[src] as f32;
-            out.near_ir[c] = input.raw.near_ir[src] as f32;
-            let range = input.range[src];
-            if let Some([x, y, z]) = self.lut.point_f32(r, m, range) {
-                out.range[c] = range as f32 * 1e-3;
-                out.points[c] = Point3::new(x, y, z);
-                out.valid[c] = input.raw.column_valid[m];
+    /// Destaggers the rows `r0..` that `out` holds: destaggered column `c` of row `r` is
+    /// staggered column `m = c - shift(r)` (mod cols). Loops over staggered columns outside
+    /// and the block's rows inside, so reads of the column-major input are contiguous.
+    fn rows_block(&self, r0: usize, input: &Staggered, out: RowOut) {
+        let cols = self.cols;
+        let n = out.range.len() / cols.max(1);
+        let shifts = &self.shifts[r0..r0 + n];
+        for m in 0..cols {
+            let base = m * self.rows + r0;
+            let valid_col = input.raw.column_valid[m];
+            let time = input.times[m];
+            for (rb, &shift) in shifts.iter().enumerate() {
+                let c = if m + shift >= cols {
+                    m + shift - cols
+                } else {
+                    m + shift
+                };
+                let (src, dst) = (base + rb, rb * cols + c);
+                out.times[dst] = time;
+                out.signal[dst] = input.signal[src] as f32;
+                out.reflectivity[dst] = input.reflectivity[src] as f32;
+                out.near_ir[dst] = input.raw.near_ir[src] as f32;
+                let range = input.range[src];
+                if let Some([x, y, z]) = self.lut.point_f32(r0 + rb, m, range) {
+                    out.range[dst] = range as f32 * 1e-3;
+                    out.points[dst] = Point3::new(x, y, z);
+                    out.valid[dst] = valid_col;
+                }
             }
         }
     }

@@ -50,6 +50,37 @@ impl RawFrame {
             out_of_range_columns: 0,
         }
     }
+
+    /// Makes a used frame a new one numbered `frame_id` without clearing its pixel buffers:
+    /// every column received overwrites its pixels, and [`Self::clear_missing_columns`]
+    /// zeroes the others when the frame is complete, so the result equals a fresh frame.
+    pub fn reuse(&mut self, frame_id: u32) {
+        self.frame_id = frame_id;
+        self.column_ns.fill(0);
+        self.column_valid.fill(false);
+        self.out_of_range_columns = 0;
+    }
+
+    /// Zeroes the pixels of every column that did not arrive (stale after [`Self::reuse`]).
+    pub fn clear_missing_columns(&mut self) {
+        let rows = self.rows;
+        for m in (0..self.cols).filter(|&m| !self.column_valid[m]) {
+            let span = m * rows..(m + 1) * rows;
+            for buf in [
+                &mut self.range_mm,
+                &mut self.signal,
+                &mut self.reflectivity,
+                &mut self.near_ir,
+                &mut self.range2_mm,
+                &mut self.signal2,
+                &mut self.reflectivity2,
+            ] {
+                if let Some(px) = buf.get_mut(span.clone()) {
+                    px.fill(0);
+                }
+            }
+        }
+    }
 }
 
 /// Where the fields of one packet profile are.
@@ -222,4 +253,34 @@ fn le64(b: &[u8], at: usize) -> u64 {
     let mut a = [0u8; 8];
     a.copy_from_slice(&b[at..at + 8]);
     u64::from_le_bytes(a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RawFrame;
+
+    #[test]
+    fn a_reused_frame_equals_a_fresh_one_once_missing_columns_are_cleared() {
+        let (rows, cols) = (4, 6);
+        let mut used = RawFrame::new(7, rows, cols, 2);
+        for (i, v) in used.range_mm.iter_mut().enumerate() {
+            *v = i as u32 + 1;
+        }
+        used.signal2.fill(9);
+        used.column_valid.fill(true);
+        used.column_ns.fill(5);
+        used.reuse(8);
+        let mut fresh = RawFrame::new(8, rows, cols, 2);
+        // Column 2 arrives in both; the others are missing.
+        for f in [&mut used, &mut fresh] {
+            f.column_valid[2] = true;
+            f.column_ns[2] = 42;
+            for r in 0..rows {
+                f.range_mm[2 * rows + r] = 100 + r as u32;
+                f.signal2[2 * rows + r] = 3;
+            }
+        }
+        used.clear_missing_columns();
+        assert_eq!(used, fresh);
+    }
 }

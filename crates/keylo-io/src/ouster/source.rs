@@ -283,10 +283,13 @@ impl ImageSource for OusterSource {
             };
             let index = self.kept;
             self.kept += 1;
-            if self.selection.wants(index) {
-                let frame = self
-                    .destagger
-                    .frame(&batched.frame, index as u64, self.which);
+            let wanted = self.selection.wants(index);
+            let frame = wanted.then(|| {
+                self.destagger
+                    .frame(&batched.frame, index as u64, self.which)
+            });
+            self.batcher.recycle(batched.frame);
+            if let Some(frame) = frame {
                 return Some(Ok(frame));
             }
         }
