@@ -8,6 +8,7 @@ pub mod cv;
 mod error;
 pub mod image;
 pub mod matching;
+pub mod native;
 mod native_heap;
 pub mod neighbourhood;
 
@@ -19,6 +20,7 @@ pub use native_heap::keep_native_heap;
 pub fn register(registry: &mut keylo_core::Registry) {
     image::register(registry);
     classic::register(registry);
+    native::register(registry);
     neighbourhood::register(registry);
     budget::register(registry);
 }

@@ -1,0 +1,43 @@
+//! What both native descriptors share: the one-plane check and packing bits into rows.
+
+use keylo_core::{DescriptorData, Descriptors, Image};
+
+use crate::FeaturesError;
+
+/// `Ok` for a one-plane image, else the error the OpenCV wrappers give.
+pub(crate) fn one_plane(kind: &str, image: &Image) -> Result<(), FeaturesError> {
+    if image.channels != 1 {
+        return Err(FeaturesError::BadInput(format!(
+            "`{kind}` needs a one-plane image; image `{}` has {} planes \
+             (two-plane images are for SuperPoint)",
+            image.name(),
+            image.channels
+        )));
+    }
+    if image.stride < image.width || image.data.len() < image.stride * image.height {
+        return Err(FeaturesError::BadInput(format!(
+            "image `{}`: {} bytes for {}×{} pixels with stride {}",
+            image.name(),
+            image.data.len(),
+            image.width,
+            image.height,
+            image.stride
+        )));
+    }
+    Ok(())
+}
+
+/// Sets bit `k` of `row` (most significant bit of each byte first).
+#[inline]
+pub(crate) fn set_bit(row: &mut [u8], k: usize) {
+    row[k / 8] |= 0x80 >> (k % 8);
+}
+
+/// Binary descriptors of `bytes` per row.
+pub(crate) fn binary(bytes: usize, data: Vec<u8>) -> Descriptors {
+    Descriptors {
+        rows: data.len() / bytes.max(1),
+        dim: bytes,
+        data: DescriptorData::Binary(data),
+    }
+}
