@@ -127,10 +127,11 @@ impl Freak {
     /// leaves the image. The pair training uses this.
     pub fn field_values(&self, sat: &Integral, kp: &mut Keypoint) -> Option<[f32; FIELDS]> {
         let px = self.scale(kp) * self.params.pattern_scale / extent();
-        let e = extent() * px;
-        let (cx, cy) = (kp.x + 0.5, kp.y + 0.5);
+        // The pattern plus a margin of one pixel strictly inside the image (the keypoints
+        // OpenCV's FREAK keeps, too; the fields themselves would fit 1.5 px closer).
+        let m = (extent() * px).ceil() + 1.0;
         let (w, h) = (sat.width() as f32, sat.height() as f32);
-        if !(cx - e >= 0.0 && cy - e >= 0.0 && cx + e <= w && cy + e <= h) {
+        if !(kp.x > m && kp.y > m && kp.x < w - m && kp.y < h - m) {
             return None;
         }
         let upright = self.sample(sat, kp.x, kp.y, px, (0.0, 1.0));
@@ -226,13 +227,13 @@ mod tests {
     #[test]
     fn drops_keypoints_whose_pattern_leaves_the_image() {
         let img = blobs(100, 64, 50.0, 32.0, 0.0);
-        // At scale 1 the pattern reaches 22 px: y + 0.5 must lie in [22, 42].
+        // At scale 1 the pattern reaches 22 px, with the margin 23: 23 < y < 64 - 23.
         let mut kps = vec![
-            keypoint(50.0, 21.0),
-            keypoint(50.0, 22.0),
+            keypoint(50.0, 23.0),
+            keypoint(50.0, 24.0),
+            keypoint(50.0, 40.0),
             keypoint(50.0, 41.0),
-            keypoint(50.0, 42.0),
-            keypoint(21.0, 32.0),
+            keypoint(23.0, 32.0),
             Keypoint {
                 size: 14.0,
                 ..keypoint(50.0, 32.0)
@@ -240,7 +241,7 @@ mod tests {
         ];
         let d = describe(&FreakParams::default(), &img, &mut kps);
         let ys: Vec<f32> = kps.iter().map(|k| k.y).collect();
-        assert_eq!(ys, vec![22.0, 41.0]);
+        assert_eq!(ys, vec![24.0, 40.0]);
         assert_eq!((d.rows, d.dim), (2, 64));
         // Without scale normalisation the size-14 keypoint fits.
         let mut big = vec![Keypoint {
