@@ -13,7 +13,7 @@ use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use super::input::{binary, one_plane, set_bit};
+use super::input::{binary, one_plane};
 use super::Integral;
 use crate::{check, FeaturesError};
 
@@ -92,7 +92,17 @@ pub struct Brief {
     bytes: usize,
     use_orientation: bool,
     pairs: Vec<TestPair>,
-    rotated: Vec<TestPair>,
+    /// Offsets of the upright tests in smoothed images of width `upright_width`.
+    upright: Vec<[isize; 2]>,
+    upright_width: usize,
+    /// The current keypoint's turned tests.
+    turned: Vec<[isize; 2]>,
+}
+
+/// Offset in the smoothed image of width `width` from a keypoint's pixel to the centre
+/// of its test box at `(dx, dy)`.
+fn offset((dx, dy): (i32, i32), width: isize) -> isize {
+    dy as isize * width + dx as isize
 }
 
 impl Brief {
@@ -108,7 +118,9 @@ impl Brief {
             bytes: params.bytes,
             use_orientation: params.use_orientation,
             pairs: test_pairs(params.bytes * 8, SEED),
-            rotated: Vec::with_capacity(params.bytes * 8),
+            upright: Vec::new(),
+            upright_width: 0,
+            turned: Vec::with_capacity(params.bytes * 8),
         })
     }
 
@@ -117,37 +129,38 @@ impl Brief {
         &self.pairs
     }
 
-    /// The tests of `kp` (rotated when configured), or `None` when a box leaves the image.
-    fn place(&mut self, kp: &Keypoint, w: i32, h: i32) -> Option<(i32, i32, &[TestPair])> {
-        let (x, y) = ((kp.x + 0.5).floor() as i32, (kp.y + 0.5).floor() as i32);
+    /// `kp`'s pixel index and its tests' offsets (turned when configured), or `None` when a
+    /// box leaves the `w × h` image.
+    fn place(&mut self, kp: &Keypoint, w: i32, h: i32) -> Option<(usize, &[[isize; 2]])> {
+        // Rounded (`as` truncates; a negative position fails the border checks either way).
+        let (x, y) = ((kp.x + 0.5) as i32, (kp.y + 0.5) as i32);
+        let width = w as isize;
+        let entry = (y as isize * width + x as isize) as usize;
+        if !self.use_orientation || kp.angle < 0.0 {
+            let ok = x >= BORDER && y >= BORDER && x < w - BORDER && y < h - BORDER;
+            return ok.then_some((entry, self.upright.as_slice()));
+        }
         let inside = |(dx, dy): (i32, i32)| {
             let (px, py) = (x + dx, y + dy);
             px >= HALF_KERNEL && py >= HALF_KERNEL && px < w - HALF_KERNEL && py < h - HALF_KERNEL
         };
-        if !self.use_orientation || kp.angle < 0.0 {
-            let ok = x >= BORDER && y >= BORDER && x < w - BORDER && y < h - BORDER;
-            return ok.then_some((x, y, self.pairs.as_slice()));
-        }
         let (s, c) = kp.angle.to_radians().sin_cos();
-        let rot = |(dx, dy): (i32, i32)| {
+        let turn = |(dx, dy): (i32, i32)| {
             let (dx, dy) = (dx as f32, dy as f32);
             (
                 (c * dx - s * dy).round() as i32,
                 (s * dx + c * dy).round() as i32,
             )
         };
-        self.rotated.clear();
+        self.turned.clear();
         for p in &self.pairs {
-            let t = TestPair {
-                a: rot(p.a),
-                b: rot(p.b),
-            };
-            if !inside(t.a) || !inside(t.b) {
+            let (a, b) = (turn(p.a), turn(p.b));
+            if !inside(a) || !inside(b) {
                 return None;
             }
-            self.rotated.push(t);
+            self.turned.push([offset(a, width), offset(b, width)]);
         }
-        Some((x, y, self.rotated.as_slice()))
+        Some((entry, self.turned.as_slice()))
     }
 
     /// Descriptors of `keypoints`, dropping those whose tests leave the image.
@@ -157,24 +170,30 @@ impl Brief {
         keypoints: &mut Vec<Keypoint>,
     ) -> Result<Descriptors, FeaturesError> {
         one_plane("brief", image)?;
-        let sat = Integral::new(image);
+        let smooth = Integral::new(image).box_sums(HALF_KERNEL as usize);
+        if self.upright_width != image.width {
+            let width = image.width as isize;
+            self.upright = self
+                .pairs
+                .iter()
+                .map(|p| [offset(p.a, width), offset(p.b, width)])
+                .collect();
+            self.upright_width = image.width;
+        }
         let (w, h) = (image.width as i32, image.height as i32);
         let bytes = self.bytes;
         let mut data = Vec::with_capacity(keypoints.len() * bytes);
-        let half = HALF_KERNEL as usize;
         keypoints.retain(|kp| {
-            let Some((x, y, tests)) = self.place(kp, w, h) else {
+            let Some((entry, tests)) = self.place(kp, w, h) else {
                 return false;
             };
-            let start = data.len();
-            data.resize(start + bytes, 0);
-            let row = &mut data[start..];
-            let at = |(dx, dy): (i32, i32)| sat.box_sum((x + dx) as usize, (y + dy) as usize, half);
-            for (k, t) in tests.iter().enumerate() {
-                if at(t.a) < at(t.b) {
-                    set_bit(row, k);
-                }
-            }
+            let at = |o: isize| smooth[entry.wrapping_add_signed(o)];
+            // Bit k of the row is test k, most significant bit of each byte first.
+            data.extend(tests.chunks_exact(8).map(|eight| {
+                eight
+                    .iter()
+                    .fold(0u8, |byte, [a, b]| (byte << 1) | u8::from(at(*a) < at(*b)))
+            }));
             true
         });
         Ok(binary(bytes, data))

@@ -2,7 +2,8 @@
 //!
 //! The retina pattern ([`super::freak_pattern`]) is scaled by `pattern_scale` × the keypoint's
 //! scale (its size / 7, within `n_octaves` octaves, when `scale_normalized`), each receptive
-//! field is averaged over its square (area-weighted, from an integral image), the orientation
+//! field is averaged over its square from an integral image (the nearest whole-pixel square for
+//! fields of half-width ≥ 1.5 px, area-weighted for smaller ones), the orientation
 //! is the paper's mean of the 45 orientation pairs' intensity differences along their unit
 //! vectors, the pattern is turned by it (when `orientation_normalized`) and sampled again,
 //! and bit `k` is 1 when field `a` of pair `k` is brighter than field `b`.
@@ -15,9 +16,16 @@ use super::freak_pattern::{
     extent, orientation_pairs, retina, Field, DESCRIPTOR_PAIRS, FIELDS, ORIENTATION_PAIRS,
     SMALLEST_KEYPOINT_SIZE,
 };
-use super::input::{binary, one_plane, set_bit};
+use super::input::{binary, one_plane};
 use super::Integral;
 use crate::{check, FeaturesError};
+
+/// Fields of at least this half-width (pixels) are averaged over the nearest whole-pixel
+/// square (an edge moves ≤ ½ px, a third of the half-width); smaller ones area-weighted.
+const ROUNDED_FROM: f32 = 1.5;
+
+/// Fields the orientation pairs use (the five outer rings).
+const ORIENTATION_FIELDS: usize = 30;
 
 /// Bytes per FREAK descriptor (512 bits).
 pub const FREAK_BYTES: usize = DESCRIPTOR_PAIRS / 8;
@@ -73,6 +81,9 @@ impl Freak {
             "expected 1 ..= 8",
         )?;
         let fields = retina();
+        debug_assert!(orientation_pairs()
+            .iter()
+            .all(|&(i, j)| usize::from(i.max(j)) < ORIENTATION_FIELDS));
         let orientation = orientation_pairs().map(|(i, j)| {
             let (a, b) = (fields[i as usize], fields[j as usize]);
             let (dx, dy) = (a.x - b.x, a.y - b.y);
@@ -97,13 +108,27 @@ impl Freak {
         }
     }
 
-    /// Mean intensities of the 43 fields around `(x, y)`, the pattern scaled by `px` pixels
-    /// per unit and turned by `(sin, cos)`.
-    fn sample(&self, sat: &Integral, x: f32, y: f32, px: f32, (s, c): (f32, f32)) -> [f32; FIELDS] {
-        self.fields.map(|f| {
+    /// Mean intensities of the first `n` of the 43 fields around `(x, y)` (the rest 0), the
+    /// pattern scaled by `px` pixels per unit and turned by `(sin, cos)`.
+    fn sample(
+        &self,
+        sat: &Integral,
+        (x, y): (f32, f32),
+        px: f32,
+        n: usize,
+        (s, c): (f32, f32),
+    ) -> [f32; FIELDS] {
+        let mut out = [0.0; FIELDS];
+        for (v, f) in out.iter_mut().zip(&self.fields).take(n) {
             let (fx, fy) = (f.x * px, f.y * px);
-            sat.area_mean(x + c * fx - s * fy, y + s * fx + c * fy, f.sigma * px)
-        })
+            let (fx, fy, half) = (x + c * fx - s * fy, y + s * fx + c * fy, f.sigma * px);
+            *v = if half >= ROUNDED_FROM {
+                sat.rounded_box_mean(fx, fy, half)
+            } else {
+                sat.area_mean(fx, fy, half)
+            };
+        }
+        out
     }
 
     /// Orientation in degrees, `[0, 360)`, from the unturned pattern's intensities.
@@ -134,12 +159,14 @@ impl Freak {
         if !(kp.x > m && kp.y > m && kp.x < w - m && kp.y < h - m) {
             return None;
         }
-        let upright = self.sample(sat, kp.x, kp.y, px, (0.0, 1.0));
+        let at = (kp.x, kp.y);
         if !self.params.orientation_normalized {
-            return Some(upright);
+            return Some(self.sample(sat, at, px, FIELDS, (0.0, 1.0)));
         }
+        // The orientation pairs use the five outer rings only.
+        let upright = self.sample(sat, at, px, ORIENTATION_FIELDS, (0.0, 1.0));
         kp.angle = self.orientation_of(&upright);
-        Some(self.sample(sat, kp.x, kp.y, px, kp.angle.to_radians().sin_cos()))
+        Some(self.sample(sat, at, px, FIELDS, kp.angle.to_radians().sin_cos()))
     }
 
     /// Descriptors of `keypoints`, dropping those whose pattern leaves the image.
@@ -155,14 +182,12 @@ impl Freak {
             let Some(v) = self.field_values(&sat, kp) else {
                 return false;
             };
-            let start = data.len();
-            data.resize(start + FREAK_BYTES, 0);
-            let row = &mut data[start..];
-            for (k, &(a, b)) in SELECTED_PAIRS.iter().enumerate() {
-                if v[a as usize] > v[b as usize] {
-                    set_bit(row, k);
-                }
-            }
+            // Bit k of the row is pair k, most significant bit of each byte first.
+            data.extend(SELECTED_PAIRS.chunks_exact(8).map(|pairs| {
+                pairs.iter().fold(0u8, |byte, &(a, b)| {
+                    (byte << 1) | u8::from(v[a as usize] > v[b as usize])
+                })
+            }));
             true
         });
         Ok(binary(FREAK_BYTES, data))

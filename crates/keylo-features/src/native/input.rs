@@ -1,4 +1,4 @@
-//! What both native descriptors share: the one-plane check and packing bits into rows.
+//! What both native descriptors share: the one-plane check and the descriptor matrix.
 
 use keylo_core::{DescriptorData, Descriptors, Image};
 
@@ -25,12 +25,6 @@ pub(crate) fn one_plane(kind: &str, image: &Image) -> Result<(), FeaturesError> 
         )));
     }
     Ok(())
-}
-
-/// Sets bit `k` of `row` (most significant bit of each byte first).
-#[inline]
-pub(crate) fn set_bit(row: &mut [u8], k: usize) {
-    row[k / 8] |= 0x80 >> (k % 8);
 }
 
 /// Binary descriptors of `bytes` per row.
