@@ -270,3 +270,27 @@ fn native_brief_and_freak_match_like_opencv_contrib() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+#[test]
+fn config_errors_name_the_key() {
+    let mut registry = Registry::default();
+    keylo_features::register(&mut registry);
+    let ctx = BuildContext::default();
+    let cases = [
+        ("brief", "bytes = 20", "`bytes`"),
+        ("freak", "pattern_scale = 0.0", "`pattern_scale`"),
+        ("freak", "n_octaves = 0", "`n_octaves`"),
+    ];
+    for (kind, toml, key) in cases {
+        let f = registry.descriptors.get(kind).expect("kind");
+        let params = f.resolve(&toml.parse().expect("toml")).expect("well-typed");
+        let err = f.build(&params, &ctx).err().expect("rejected").to_string();
+        assert!(err.contains(key), "{kind} {toml}: {err}");
+    }
+    // Unknown keys are refused when the config is read.
+    let f = registry.descriptors.get("brief").expect("brief");
+    let (key, msg) = f
+        .resolve(&"byte = 32".parse().expect("toml"))
+        .expect_err("unknown key");
+    assert!(format!("{key} {msg}").contains("byte"), "{key}: {msg}");
+}
