@@ -5,6 +5,8 @@ use keylo_core::Image;
 
 /// Summed-area table: `at(x, y)` is the sum of the pixels left of column `x` and above row
 /// `y` (so it has `(width + 1) × (height + 1)` entries, the first row and column zero).
+/// Entries wrap modulo 2³² (images over 16 M pixels); box sums, differences of entries, stay
+/// exact while a box's own sum fits 32 bits.
 ///
 /// ```
 /// use keylo_core::{Channel, Image};
@@ -22,7 +24,7 @@ pub struct Integral {
 }
 
 impl Integral {
-    /// The table of plane 0 of `image` (8-bit: a 1024×64 image sums to at most 2^24).
+    /// The table of plane 0 of `image`.
     pub fn new(image: &Image) -> Self {
         let (w, h) = (image.width, image.height);
         let stride = w + 1;
@@ -74,7 +76,8 @@ impl Integral {
     pub fn rect_sum(&self, x0: usize, y0: usize, x1: usize, y1: usize) -> u32 {
         let (x1, y1) = (x1.min(self.width), y1.min(self.height));
         let (x0, y0) = (x0.min(x1), y0.min(y1));
-        self.at(x1, y1) + self.at(x0, y0) - self.at(x1, y0) - self.at(x0, y1)
+        (self.at(x1, y1).wrapping_add(self.at(x0, y0)))
+            .wrapping_sub(self.at(x1, y0).wrapping_add(self.at(x0, y1)))
     }
 
     /// Sum of the `(2 half + 1)²` box centred on pixel `(x, y)`; the caller keeps the box
@@ -116,7 +119,7 @@ impl Integral {
             let (bl, br) = (&b[..w - 2 * half], &b[k..]);
             let (tl, tr) = (&t[..w - 2 * half], &t[k..]);
             for (i, v) in inner.iter_mut().enumerate() {
-                *v = ((br[i] + tl[i]) - (bl[i] + tr[i])) as u16;
+                *v = (br[i].wrapping_add(tl[i])).wrapping_sub(bl[i].wrapping_add(tr[i])) as u16;
             }
             for x in (0..half).chain(w - half..w) {
                 row[x] = self.box_sum(x, y, half) as u16;
@@ -170,7 +173,7 @@ impl Integral {
         let (y0, fy0) = Self::split(cy - half, self.height);
         let (y1, fy1) = Self::split(cy + half, self.height);
         let stride = self.width + 1;
-        let d = |a: usize, b: usize| self.sums[b] as f32 - self.sums[a] as f32;
+        let d = |a: usize, b: usize| self.sums[b].wrapping_sub(self.sums[a]) as f32;
         // Sum over [x0 + fx0, x1 + fx1] of table row `r` (a difference along x).
         let across = |r: usize| {
             let row = r * stride;
@@ -191,8 +194,8 @@ impl Integral {
 fn accumulate<'a>(above: &[u32], below: &mut [u32], pixels: impl Iterator<Item = &'a u8>) {
     let mut run = 0u32;
     for ((b, a), &v) in below.iter_mut().zip(above).zip(pixels) {
-        run += u32::from(v);
-        *b = *a + run;
+        run = run.wrapping_add(u32::from(v));
+        *b = a.wrapping_add(run);
     }
 }
 
