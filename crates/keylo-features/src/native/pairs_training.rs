@@ -112,6 +112,8 @@ pub fn render_table(pairs: &[(u8, u8)], keypoints: usize, command: &str) -> Stri
     s.push_str(
         "/// `(a, b)`: bit `k` is 1 when field `a` of pair `k` is brighter than field `b`.\n",
     );
+    // Eight pairs a line, kept as written (so regenerating is byte-identical).
+    s.push_str("#[rustfmt::skip]\n");
     s.push_str(&format!(
         "pub const SELECTED_PAIRS: [(u8, u8); {}] = [\n",
         pairs.len()
@@ -149,6 +151,6 @@ mod tests {
     #[test]
     fn renders_a_compilable_table() {
         let s = render_table(&[(1, 0), (2, 1)], 10, "cargo run");
-        assert!(s.contains("pub const SELECTED_PAIRS: [(u8, u8); 2] = [\n    (1, 0), (2, 1),\n];"));
+        assert!(s.contains("#[rustfmt::skip]\npub const SELECTED_PAIRS: [(u8, u8); 2] = [\n    (1, 0), (2, 1),\n];"));
     }
 }
