@@ -1,11 +1,13 @@
 //! Hot paths of the keypoint front end on a real OS-0-128 frame (1024×128): building the
 //! signal and range images (normalise + resize to 1024×64), AKAZE and SuperPoint detection, and the
-//! keypoint-neighbourhood selection. Run: `cargo bench -p keylo-features`.
+//! keypoint-neighbourhood selection; and the native BRIEF / FREAK descriptors on the parity
+//! fixture (tests/fixtures/native_descriptors: 14 images × 2 keypoint sets per iteration, the
+//! workload `make_golden.py` times OpenCV on). Run: `cargo bench -p keylo-features`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use keylo_core::{
-    BuildContext, ChannelFeatures, Detector, Downsampler, FrameFeatures, ImageBuilder, ImageSource,
-    LidarFrame, Registry,
+    BuildContext, Channel, ChannelFeatures, Descriptor, Detector, Downsampler, FrameFeatures,
+    Image, ImageBuilder, ImageSource, Keypoint, LidarFrame, Registry,
 };
 use keylo_features::image::{LidarImageBuilder, LidarImageConfig};
 use keylo_features::neighbourhood::{KeypointNeighbourhood, NeighbourhoodConfig};
@@ -81,5 +83,64 @@ fn bench(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench);
+/// The parity fixture's images, each with its FAST and Shi-Tomasi keypoints.
+fn fixture() -> Vec<(Image, Vec<Keypoint>)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/fixtures/native_descriptors");
+    let text = std::fs::read_to_string(dir.join("keypoints.json")).expect("fixture");
+    let doc: serde_json::Value = serde_json::from_str(&text).expect("json");
+    let mut out = Vec::new();
+    for v in doc["images"].as_object().expect("images").values() {
+        let file = std::fs::File::open(dir.join(v["file"].as_str().expect("file"))).expect("png");
+        let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+            .read_info()
+            .expect("png");
+        let mut buf = vec![0; reader.output_buffer_size().expect("size")];
+        let info = reader.next_frame(&mut buf).expect("frame");
+        let mut img = Image::new_gray(info.width as usize, info.height as usize, Channel::Signal);
+        img.data = buf[..img.data.len()].to_vec();
+        for rows in v["keypoints"].as_object().expect("sets").values() {
+            let kps = rows
+                .as_array()
+                .expect("rows")
+                .iter()
+                .map(|r| Keypoint {
+                    x: r[0].as_f64().expect("x") as f32,
+                    y: r[1].as_f64().expect("y") as f32,
+                    size: r[2].as_f64().expect("size") as f32,
+                    angle: r[3].as_f64().expect("angle") as f32,
+                    ..Keypoint::default()
+                })
+                .collect();
+            out.push((img.clone(), kps));
+        }
+    }
+    out
+}
+
+fn bench_native(c: &mut Criterion) {
+    let cases = fixture();
+    let mut registry = Registry::default();
+    keylo_features::register(&mut registry);
+    for kind in ["brief", "freak"] {
+        let f = registry.descriptors.get(kind).expect("kind");
+        let mut d: Box<dyn Descriptor> = f
+            .build(
+                &f.resolve(&toml::Table::new()).expect("params"),
+                &BuildContext::default(),
+            )
+            .expect("descriptor");
+        let name = format!("describe: {kind}, {} fixture calls", cases.len());
+        c.bench_function(&name, |b| {
+            b.iter(|| {
+                for (img, kps) in &cases {
+                    let mut kps = kps.clone();
+                    d.describe(img, &mut kps).expect("describe");
+                }
+            })
+        });
+    }
+}
+
+criterion_group!(benches, bench, bench_native);
 criterion_main!(benches);

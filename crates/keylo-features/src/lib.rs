@@ -9,6 +9,7 @@ mod cv_keypoints;
 mod error;
 pub mod image;
 pub mod matching;
+pub mod native;
 mod native_heap;
 pub mod neighbourhood;
 pub mod superpoint;
@@ -21,6 +22,7 @@ pub use native_heap::keep_native_heap;
 pub fn register(registry: &mut keylo_core::Registry) {
     image::register(registry);
     classic::register(registry);
+    native::register(registry);
     neighbourhood::register(registry);
     budget::register(registry);
     superpoint::register(registry);

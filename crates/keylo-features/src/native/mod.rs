@@ -1,0 +1,48 @@
+//! Native descriptors, for what Debian's OpenCV lacks (no `xfeatures2d`): `brief` (BRIEF,
+//! Calonder et al. 2010) and `freak` (FREAK, Alahi et al. 2012), written from the papers.
+//!
+//! - [`integral`]: integral image, box sums and area-weighted means.
+//! - [`brief`]: BRIEF; test pairs from a fixed-seed Gaussian ([`brief::test_pairs`]).
+//! - [`freak_pattern`]: the 43-field retina pattern and its pair tables.
+//! - [`freak`]: FREAK; [`freak_pairs`] holds the 512 pairs [`pairs_training`] selected.
+//!
+//! Sampling patterns, seeds and the training command: `docs/keypoints.md`, "Native BRIEF and
+//! FREAK".
+
+pub mod brief;
+pub mod freak;
+pub mod freak_pairs;
+pub mod freak_pattern;
+mod input;
+pub mod integral;
+pub mod pairs_training;
+#[cfg(test)]
+mod test_images;
+
+pub use brief::{Brief, BriefParams};
+pub use freak::{Freak, FreakParams};
+pub use integral::Integral;
+
+use keylo_core::Registry;
+
+/// Registers `brief` and `freak` as descriptors.
+pub fn register(registry: &mut Registry) {
+    registry.descriptors.add::<BriefParams>(
+        "brief",
+        "BRIEF binary descriptor (native; fixed-seed Gaussian test pairs)",
+        |p, _| {
+            Ok(Box::new(
+                Brief::new(&p).map_err(|e| e.in_stage("descriptor"))?,
+            ))
+        },
+    );
+    registry.descriptors.add::<FreakParams>(
+        "freak",
+        "FREAK binary descriptor (native; retina pattern, trained pairs)",
+        |p, _| {
+            Ok(Box::new(
+                Freak::new(&p).map_err(|e| e.in_stage("descriptor"))?,
+            ))
+        },
+    );
+}
