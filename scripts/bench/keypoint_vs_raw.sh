@@ -4,6 +4,7 @@
 # (configs/paper/*), odometry frames per second (source reading excluded) and their ratio.
 # Usage: scripts/bench/keypoint_vs_raw.sh [DATA] [FRAMES]
 #   DATA: any recording keylo reads; default: a simulated OS0-128 (1024×128) lab, written once.
+#   KEYLO_BENCH_EXTRA="indoor-superpoint-kiss-icp outdoor-superpoint-kiss-icp" adds configs.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 frames="${2:-100}"
@@ -16,7 +17,7 @@ if [ -z "$data" ]; then
   data="$work/lab"
   "$keylo" sim --scene lab --frames "$frames" --out "$data" -q >/dev/null
 fi
-for cfg in raw-kiss-icp indoor-akaze-kiss-icp outdoor-akaze-kiss-icp "$@"; do
+for cfg in raw-kiss-icp indoor-akaze-kiss-icp outdoor-akaze-kiss-icp ${KEYLO_BENCH_EXTRA:-} "$@"; do
   case "$cfg" in *-kiss-icp) ;; *) continue ;; esac
   "$keylo" run "configs/paper/$cfg.toml" --data "$data" --set source.max_frames="$frames" \
     --set output.on_bad_frame=skip --out "$work/$cfg" -q >/dev/null 2>&1 || true
