@@ -58,8 +58,14 @@ fn pcl_default_epsilon_stops_every_frame_after_one_step_and_drifts() {
 }
 
 #[test]
-fn the_run_is_bit_for_bit_repeatable() {
-    let a = run(SceneKind::Corridor, 8, NdtConfig::default());
-    let b = run(SceneKind::Corridor, 8, NdtConfig::default());
+fn the_run_is_bit_for_bit_repeatable_whatever_the_thread_count() {
+    let threads = |n| NdtConfig {
+        max_num_threads: n,
+        ..NdtConfig::default()
+    };
+    let a = run(SceneKind::Corridor, 8, threads(1));
+    let b = run(SceneKind::Corridor, 8, threads(3));
+    let c = run(SceneKind::Corridor, 8, threads(0));
     assert_eq!(a.0.to_bits(), b.0.to_bits());
+    assert_eq!(a.0.to_bits(), c.0.to_bits());
 }
