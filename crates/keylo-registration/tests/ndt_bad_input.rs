@@ -102,6 +102,23 @@ fn non_finite_guess_and_empty_source_are_errors() {
 }
 
 #[test]
+fn absurd_finite_guesses_end_without_a_panic_or_a_hang() {
+    let points = room(0.0);
+    for search in modes() {
+        let target = NdtTarget::new(&points, &GridSettings::default(), search).unwrap();
+        for guess in [
+            Isometry3::translation(1e200, -1e200, 0.0),
+            Isometry3::translation(3e9, 0.0, 0.0),
+            Isometry3::translation(50.0, 0.0, 0.0),
+        ] {
+            // No overlap at all: an error naming the cause (PCL would report "converged").
+            let e = align(&target, &points, &guess, &AlignSettings::default()).unwrap_err();
+            assert!(e.to_string().contains("no source point"), "{e}");
+        }
+    }
+}
+
+#[test]
 fn bad_parameters_are_rejected_when_the_registrar_is_built() {
     let bad = [
         NdtConfig {

@@ -77,6 +77,13 @@ pub fn align(
     let eval = |p: &Vector6<f64>, h: bool| derivatives(target, source, p, gauss, h);
     let mut p = params_of(guess);
     let mut d = eval(&p, true);
+    if d.score == 0.0 {
+        // PCL reports this as converged at the guess (zero gradient); it is no alignment.
+        return Err(RegistrationError::Diverged(format!(
+            "NDT: from the initial guess no source point of {} falls near a target voxel",
+            source.len()
+        )));
+    }
     let mut iterations = 0;
     let mut converged = false;
     let n = source.len() as f64;
@@ -113,9 +120,19 @@ pub fn align(
 }
 
 /// The Newton step −H⁻¹g (SVD solve, singular values below Eigen's JacobiSVD threshold
-/// dropped); `None` when the SVD fails.
+/// dropped); `None` when the derivatives are not finite or the SVD fails (the loop then
+/// stops unconverged, as PCL's does when its SVD fails).
 fn newton_direction(d: &Derivatives) -> Option<Vector6<f64>> {
-    let svd = SVD::new(d.hessian, true, true);
+    let finite = d
+        .hessian
+        .iter()
+        .chain(d.gradient.iter())
+        .all(|v| v.is_finite());
+    if !finite {
+        return None;
+    }
+    // Bounded SVD iterations: a pathological matrix ends the loop instead of spinning.
+    let svd = SVD::try_new(d.hessian, true, true, f64::EPSILON, 10_000)?;
     let largest = svd.singular_values.max();
     let eps = largest * 6.0 * f64::EPSILON;
     svd.solve(&(-d.gradient), eps).ok()

@@ -3,6 +3,29 @@
 //! [`voxel_grid`] (target Gaussians), [`neighbours`] (search modes), [`score`] (score,
 //! gradient, Hessian), [`line_search`] (More–Thuente), [`align`] (the Newton loop) and
 //! [`odometry`] (keyframe local map), with deskew and the constant-velocity guess of kiss-icp.
+//!
+//! Aligning one cloud to another, as PCL's `align`:
+//!
+//! ```
+//! use keylo_registration::ndt::{align, AlignSettings, GridSettings, NdtTarget, NeighbourSearch};
+//! use nalgebra::{Isometry3, Point3};
+//! // A corner of three wavy planes, and the same points seen from 0.1 m further along x.
+//! let mut target = Vec::new();
+//! for i in 0..40 {
+//!     for j in 0..40 {
+//!         let (a, b) = (f64::from(i) * 0.1, f64::from(j) * 0.1);
+//!         target.push(Point3::new(a, b, 0.1 * (a * 2.0).sin()));
+//!         target.push(Point3::new(a, 0.1 * (b * 2.0).cos(), b));
+//!         target.push(Point3::new(0.1 * (a * 3.0).sin(), a, b));
+//!     }
+//! }
+//! let source: Vec<_> = target.iter().map(|p| p - nalgebra::Vector3::new(0.1, 0.0, 0.0)).collect();
+//! let grid = NdtTarget::new(&target, &GridSettings::default(), NeighbourSearch::Radius)?;
+//! let settings = AlignSettings { transformation_epsilon: 1e-6, ..AlignSettings::default() };
+//! let r = align(&grid, &source, &Isometry3::identity(), &settings)?;
+//! assert!((r.pose.translation.vector.x - 0.1).abs() < 0.02, "{}", r.pose);
+//! # Ok::<(), keylo_registration::RegistrationError>(())
+//! ```
 
 pub mod align;
 mod config;

@@ -102,7 +102,11 @@ impl NdtTarget {
             (NeighbourSearch::Direct7, _) => {
                 let v = voxel_of(p, self.resolution);
                 for d in FACES {
-                    let key = [v[0] + d[0], v[1] + d[1], v[2] + d[2]];
+                    let key = [
+                        v[0].saturating_add(d[0]),
+                        v[1].saturating_add(d[1]),
+                        v[2].saturating_add(d[2]),
+                    ];
                     if let Some(&i) = self.distributions.index.get(&key) {
                         f(&cells[i as usize]);
                     }

@@ -135,11 +135,6 @@ fn accumulate(
     acc.hessian += h * w;
 }
 
-/// Score and directional derivative along `direction` only (for the line search).
-pub fn along(d: &Derivatives, direction: &Vector6<f64>) -> (f64, f64) {
-    (d.score, d.gradient.dot(direction))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
