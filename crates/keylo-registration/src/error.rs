@@ -16,15 +16,18 @@ pub enum RegistrationError {
     /// The estimate left the plausible range; the registrar state is unchanged.
     #[error("{0}")]
     Diverged(String),
+    /// An initial guess the solver cannot start from (non-finite).
+    #[error("{0}")]
+    BadGuess(String),
 }
 
 impl From<RegistrationError> for CoreError {
     fn from(e: RegistrationError) -> Self {
         match e {
             RegistrationError::BadParameter { .. } => CoreError::stage("registrar", e.to_string()),
-            RegistrationError::BadCloud(m) | RegistrationError::Diverged(m) => {
-                CoreError::stage("registrar", m)
-            }
+            RegistrationError::BadCloud(m)
+            | RegistrationError::Diverged(m)
+            | RegistrationError::BadGuess(m) => CoreError::stage("registrar", m),
         }
     }
 }

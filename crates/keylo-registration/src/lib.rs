@@ -3,23 +3,32 @@
 //! - [`kiss_icp`]: a KISS-ICP-style registrar faithful to upstream PRBonn/kiss-icp
 //!   (voxel-hash local map, double voxel downsampling, adaptive threshold, constant-velocity
 //!   prediction, deskew, point-to-point ICP with a Geman–McClure kernel).
+//! - [`ndt`]: NDT (Magnusson's point-to-distribution, PCL's `NormalDistributionsTransform`
+//!   semantics and defaults) in a keyframe local-map odometry like simple_ndt_slam.
 //! - [`downsample`]: `passthrough` (every valid point) and `voxel` downsamplers.
 
 pub mod downsample;
 mod error;
 pub mod kiss_icp;
+pub mod ndt;
 pub mod se3;
 pub mod voxel;
 
 pub use error::RegistrationError;
 pub use kiss_icp::{KissIcp, KissIcpConfig};
+pub use ndt::{Ndt, NdtConfig};
 
-/// Registers this crate's backends: registrar `kiss-icp`, downsamplers `passthrough`, `voxel`.
+/// Registers this crate's backends: registrars `kiss-icp`, `ndt`; downsamplers `passthrough`, `voxel`.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.registrars.add::<KissIcpConfig>(
         "kiss-icp",
         "KISS-ICP-style point-to-point ICP against a voxel-hash local map (upstream defaults)",
         |config, _ctx| Ok(Box::new(KissIcp::new(config)?)),
+    );
+    registry.registrars.add::<NdtConfig>(
+        "ndt",
+        "NDT (PCL NormalDistributionsTransform semantics) against a local map of recent keyframes",
+        |config, _ctx| Ok(Box::new(Ndt::new(config)?)),
     );
     downsample::register(registry);
 }

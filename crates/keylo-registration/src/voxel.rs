@@ -86,6 +86,29 @@ pub fn downsample(points: &[Point3<f64>], size: f64) -> Vec<Point3<f64>> {
         .collect()
 }
 
+/// The mean of the points of every voxel of edge `size`, in first-seen voxel order (PCL's
+/// `VoxelGrid` filter up to point order).
+///
+/// ```
+/// use keylo_registration::voxel::centroids;
+/// use nalgebra::Point3;
+/// let pts = [Point3::new(0.1, 0.1, 0.1), Point3::new(0.3, 0.3, 0.3), Point3::new(2.0, 0.0, 0.0)];
+/// assert_eq!(centroids(&pts, 1.0), vec![Point3::new(0.2, 0.2, 0.2), pts[2]]);
+/// ```
+pub fn centroids(points: &[Point3<f64>], size: f64) -> Vec<Point3<f64>> {
+    let mut slot: VoxelMap<usize> = VoxelMap::default();
+    let mut sums: Vec<(nalgebra::Vector3<f64>, f64)> = Vec::new();
+    for p in points {
+        let k = *slot.entry(voxel_of(p, size)).or_insert_with(|| {
+            sums.push((nalgebra::Vector3::zeros(), 0.0));
+            sums.len() - 1
+        });
+        sums[k].0 += p.coords;
+        sums[k].1 += 1.0;
+    }
+    sums.iter().map(|(s, n)| Point3::from(s / *n)).collect()
+}
+
 /// Upstream's voxel hash (`std::hash<Voxel>` in kiss-icp): 32-bit products XOR-ed.
 #[inline]
 fn upstream_hash(v: &Voxel) -> usize {

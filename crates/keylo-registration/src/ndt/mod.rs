@@ -1,0 +1,201 @@
+//! NDT registrar (Magnusson's point-to-distribution NDT with PCL's
+//! `NormalDistributionsTransform` semantics) in a simple_ndt_slam-style odometry. Composes
+//! [`voxel_grid`] (target Gaussians), [`neighbours`] (search modes), [`score`] (score,
+//! gradient, Hessian), [`line_search`] (More–Thuente), [`align`] (the Newton loop) and
+//! [`odometry`] (keyframe local map), with deskew and the constant-velocity guess of kiss-icp.
+//!
+//! Aligning one cloud to another, as PCL's `align`:
+//!
+//! ```
+//! use keylo_registration::ndt::{align, AlignSettings, GridSettings, NdtTarget, NeighbourSearch};
+//! use nalgebra::{Isometry3, Point3};
+//! // A corner of three wavy planes, and the same points seen from 0.1 m further along x.
+//! let mut target = Vec::new();
+//! for i in 0..40 {
+//!     for j in 0..40 {
+//!         let (a, b) = (f64::from(i) * 0.1, f64::from(j) * 0.1);
+//!         target.push(Point3::new(a, b, 0.1 * (a * 2.0).sin()));
+//!         target.push(Point3::new(a, 0.1 * (b * 2.0).cos(), b));
+//!         target.push(Point3::new(0.1 * (a * 3.0).sin(), a, b));
+//!     }
+//! }
+//! let source: Vec<_> = target.iter().map(|p| p - nalgebra::Vector3::new(0.1, 0.0, 0.0)).collect();
+//! let grid = NdtTarget::new(&target, &GridSettings::default(), NeighbourSearch::Radius)?;
+//! let settings = AlignSettings { transformation_epsilon: 1e-6, ..AlignSettings::default() };
+//! let r = align(&grid, &source, &Isometry3::identity(), &settings)?;
+//! assert!((r.pose.translation.vector.x - 0.1).abs() < 0.02, "{}", r.pose);
+//! # Ok::<(), keylo_registration::RegistrationError>(())
+//! ```
+
+pub mod align;
+mod config;
+pub mod euler;
+pub mod line_search;
+pub mod neighbours;
+pub mod odometry;
+pub mod score;
+pub mod voxel_grid;
+
+use keylo_core::{CoreError, PointCloud, Registrar, Registration};
+use nalgebra::{Isometry3, Point3};
+
+pub use align::{align, AlignSettings, NdtResult};
+pub use config::NdtConfig;
+pub use neighbours::{NdtTarget, NeighbourSearch};
+pub use voxel_grid::GridSettings;
+
+use crate::kiss_icp::deskew;
+use crate::{voxel, RegistrationError};
+use odometry::{LocalMap, MapSettings};
+
+/// The NDT odometry state.
+pub struct Ndt {
+    config: NdtConfig,
+    map: LocalMap,
+    last_pose: Isometry3<f64>,
+    last_delta: Isometry3<f64>,
+    pool: Option<rayon::ThreadPool>,
+}
+
+impl Ndt {
+    /// A registrar with an empty map at the identity pose.
+    pub fn new(config: NdtConfig) -> Result<Self, RegistrationError> {
+        config.validate()?;
+        let pool = match config.max_num_threads {
+            0 => None,
+            n => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .map_err(|e| RegistrationError::BadParameter {
+                        field: "max_num_threads",
+                        value: n.to_string(),
+                        expected: format!("a thread count the system allows ({e})"),
+                    })?,
+            ),
+        };
+        let settings = MapSettings {
+            keyframe_distance: config.keyframe_distance,
+            keyframe_angle: config.keyframe_angle.to_radians(),
+            keyframes: config.local_map_keyframes,
+            voxel_size: config.map_voxel_size,
+        };
+        Ok(Self {
+            map: LocalMap::new(settings, config.grid(), config.neighbour_search),
+            config,
+            last_pose: Isometry3::identity(),
+            last_delta: Isometry3::identity(),
+            pool,
+        })
+    }
+
+    /// The last estimated pose.
+    pub fn pose(&self) -> Isometry3<f64> {
+        self.last_pose
+    }
+
+    /// Deskew and range filter.
+    fn preprocess(&self, cloud: &PointCloud) -> Vec<Point3<f64>> {
+        let mut points = cloud.points.clone();
+        if self.config.deskew {
+            if let Some(times) = &cloud.times {
+                deskew::deskew(&mut points, times, &self.last_delta);
+            }
+        }
+        let (min, max) = (self.config.min_range, self.config.max_range);
+        points.retain(|p| {
+            let r = p.coords.norm();
+            r > min && r < max
+        });
+        points
+    }
+
+    /// Rejects a non-finite pose or one that jumped beyond `max_motion_per_frame`.
+    fn check_divergence(&self, pose: &Isometry3<f64>) -> Result<(), RegistrationError> {
+        let step = (self.last_pose.inverse() * pose).translation.vector.norm();
+        let bound = self.config.max_motion_per_frame;
+        if !step.is_finite() || (bound > 0.0 && step > bound) {
+            return Err(RegistrationError::Diverged(format!(
+                "NDT diverged: the pose moved {step:.3} m in one frame (bound \
+                 `max_motion_per_frame` = {bound} m)"
+            )));
+        }
+        Ok(())
+    }
+
+    fn register_points(
+        &mut self,
+        cloud: &PointCloud,
+    ) -> Result<(NdtResult, usize), RegistrationError> {
+        let frame = self.preprocess(cloud);
+        if frame.is_empty() {
+            return Err(RegistrationError::BadCloud(format!(
+                "no point within min_range {} m and max_range {} m (of {} input points)",
+                self.config.min_range,
+                self.config.max_range,
+                cloud.len()
+            )));
+        }
+        let source = match self.config.source_voxel_size {
+            v if v > 0.0 => voxel::centroids(&frame, v),
+            _ => frame.clone(),
+        };
+        let Some(target) = self.map.target() else {
+            // The first frame: nothing to align to; it founds the map.
+            self.map.add_keyframe(&frame, &self.last_pose)?;
+            let first = NdtResult {
+                pose: self.last_pose,
+                iterations: 0,
+                converged: true,
+                likelihood: 0.0,
+            };
+            return Ok((first, source.len()));
+        };
+        let guess = self.last_pose * self.last_delta;
+        let result = align(target, &source, &guess, &self.config.solver())?;
+        self.check_divergence(&result.pose)?;
+        if self.map.wants_keyframe(&result.pose) {
+            self.map.add_keyframe(&frame, &result.pose)?;
+        }
+        self.last_delta = self.last_pose.inverse() * result.pose;
+        self.last_delta.rotation.renormalize();
+        self.last_pose = result.pose;
+        Ok((result, source.len()))
+    }
+}
+
+impl Registrar for Ndt {
+    fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
+        if let Some(i) = cloud.first_non_finite() {
+            return Err(RegistrationError::BadCloud(format!(
+                "point {i} has a non-finite coordinate or time"
+            ))
+            .into());
+        }
+        let outcome = match self.pool.take() {
+            Some(pool) => {
+                let r = pool.install(|| self.register_points(cloud));
+                self.pool = Some(pool);
+                r
+            }
+            None => self.register_points(cloud),
+        };
+        let (result, source_points) = outcome?;
+        let end = cloud
+            .times
+            .as_ref()
+            .and_then(|t| t.iter().copied().reduce(f64::max))
+            .unwrap_or(0.0);
+        Ok(Registration {
+            stamp: cloud.timestamp + end,
+            pose: result.pose,
+            source_points,
+            iterations: result.iterations,
+            converged: result.converged,
+        })
+    }
+
+    fn map_size(&self) -> usize {
+        self.map.len()
+    }
+}
