@@ -86,15 +86,24 @@ impl LocalMap {
         } else {
             world
         };
-        let mut keyframes = self.keyframes.clone();
-        keyframes.push_back(world);
-        while keyframes.len() > self.settings.keyframes {
-            keyframes.pop_front();
-        }
-        let all: Vec<Point3<f64>> = keyframes.iter().flatten().copied().collect();
+        // The keyframes that stay (the oldest beyond the limit drop out) plus the new one.
+        let keep = self
+            .keyframes
+            .len()
+            .min(self.settings.keyframes.saturating_sub(1));
+        let dropped = self.keyframes.len() - keep;
+        let all: Vec<Point3<f64>> = self
+            .keyframes
+            .iter()
+            .skip(dropped)
+            .flatten()
+            .chain(world.iter())
+            .copied()
+            .collect();
         let target = NdtTarget::new(&all, &self.grid, self.search)?;
+        self.keyframes.drain(..dropped);
+        self.keyframes.push_back(world);
         self.points = all.len();
-        self.keyframes = keyframes;
         self.target = Some(target);
         self.last_keyframe = Some(*pose);
         Ok(())
