@@ -183,3 +183,42 @@ pub fn label(assign: &Assignment, base_windows: &BTreeMap<String, usize>) -> Str
     );
     parts.join(" ")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_split_on_top_level_commas_only() {
+        let a = parse_axis("registrar.x=[1, 2],{ a = 1, b = 2 },\"p,q\",3").unwrap();
+        assert_eq!(a.values, ["[1, 2]", "{ a = 1, b = 2 }", "\"p,q\"", "3"]);
+        assert!(parse_axis("k_sig=4,,5").is_err());
+        assert!(parse_axis("=4").is_err());
+    }
+
+    #[test]
+    fn aliases_and_window_merging() {
+        let axes = [
+            parse_axis("k_sig=4,5").unwrap(),
+            parse_axis("registrar.kind=kiss-icp,ndt").unwrap(),
+        ];
+        assert_eq!(axes[0].key, "downsampler.windows.signal");
+        let points = expand(&axes).unwrap();
+        assert_eq!(points.len(), 4);
+        let base = windows_of(Some(&toml::Value::String("5_7".into())));
+        let sets = set_strings(&points[3], &base);
+        assert_eq!(
+            sets,
+            [
+                "registrar.kind=ndt",
+                "downsampler.windows={ \"range\" = 7, \"signal\" = 5 }"
+            ]
+        );
+        assert_eq!(label(&points[0], &base), "4_7 registrar.kind=kiss-icp");
+        let dup = [
+            parse_axis("k_sig=4").unwrap(),
+            parse_axis("downsampler.k_sig=5").unwrap(),
+        ];
+        assert!(expand(&dup).is_err());
+    }
+}
