@@ -95,6 +95,9 @@ pub struct CompareArgs {
     /// Diverged when one step between consecutive estimated poses exceeds this (m).
     #[arg(long, default_value_t = 5.0)]
     pub diverge_step: f64,
+    /// Largest stamp difference (s) when pairing poses with ground truth (evo `--t_max_diff`).
+    #[arg(long, default_value_t = 0.01)]
+    pub t_max_diff: f64,
     /// Run again even where a finished summary.json is found.
     #[arg(long)]
     pub rerun: bool,

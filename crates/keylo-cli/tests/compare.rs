@@ -214,6 +214,24 @@ fn compare_fills_every_column_csv_and_json_agree_and_resume_skips() {
         .iter()
         .all(|r| r["resumed"] == true));
     assert_eq!(again["runs"][0]["trans_rmse_m"], runs[0]["trans_rmse_m"]);
+
+    // Other settings in the same folders: the finished runs are not reused.
+    let mut changed = args.clone();
+    changed.extend(["--set", "registrar.max_range=20"]);
+    let o = keylo(&changed, tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o).matches("finished run of other settings").count(),
+        2,
+        "{}",
+        stderr(&o)
+    );
+    let third = read_json(&out.join("compare.json"));
+    assert!(third["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|r| r["resumed"] == false));
 }
 
 #[test]

@@ -20,6 +20,9 @@ pub struct Criterion {
     pub max_ape_m: f64,
     /// Largest translation between consecutive estimated poses, metres.
     pub max_step_m: f64,
+    /// Largest stamp difference when pairing estimate and ground truth, seconds (evo
+    /// `--t_max_diff`).
+    pub t_max_diff_s: f64,
 }
 
 impl Criterion {
@@ -30,8 +33,9 @@ impl Criterion {
              between consecutive estimated poses exceeds {} m (`--diverge-step`), or when a \
              pose is not finite; **failed** when `keylo run` stopped before the end of the \
              data (its figures cover the frames before the failure); accuracy of a diverged \
-             or failed run is shown as N/A in the paper-shaped tables",
-            self.max_ape_m, self.max_step_m
+             or failed run is shown as N/A in the paper-shaped tables; APE is over the poses \
+             paired with ground truth within {} s (`--t-max-diff`, evo's `--t_max_diff`)",
+            self.max_ape_m, self.max_step_m, self.t_max_diff_s
         )
     }
 }
@@ -51,6 +55,8 @@ pub struct Row {
     /// The run was found finished and not run again.
     pub resumed: bool,
     pub frames: Option<usize>,
+    /// Poses paired with ground truth (APE is over these).
+    pub associated_poses: Option<usize>,
     pub trans_mean_m: Option<f64>,
     pub trans_rmse_m: Option<f64>,
     pub trans_max_m: Option<f64>,
@@ -113,7 +119,7 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
         .and_then(|p| trajectories::read(p).ok())
         .map(|l| l.trajectory);
     if let (Some(est), Some(gt)) = (&est, &gt) {
-        fill_ape(est, gt, &mut row, &mut series);
+        fill_ape(est, gt, crit.t_max_diff_s, &mut row, &mut series);
     }
     let stopped = summary
         .as_ref()
@@ -217,14 +223,24 @@ fn fill_from_summary(s: &Value, row: &mut Row) {
     row.rpe_rot_deg = a("rpe_rot_rmse_deg");
 }
 
-fn fill_ape(est: &Trajectory, gt: &Trajectory, row: &mut Row, series: &mut Series) {
-    let opts = AssociateOptions::default();
+fn fill_ape(
+    est: &Trajectory,
+    gt: &Trajectory,
+    t_max_diff: f64,
+    row: &mut Row,
+    series: &mut Series,
+) {
+    let opts = AssociateOptions {
+        max_diff: t_max_diff,
+        ..AssociateOptions::default()
+    };
     let Ok(pairs) = associate_labeled(gt, "ground truth", est, "estimate", &opts) else {
         return;
     };
     let Ok(result) = ape(&pairs, &ApeOptions::default()) else {
         return;
     };
+    row.associated_poses = Some(pairs.len());
     row.trans_mean_m = Some(result.translation.mean);
     row.trans_rmse_m = Some(result.translation.rmse);
     row.trans_max_m = Some(result.translation.max);

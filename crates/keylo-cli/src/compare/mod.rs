@@ -60,6 +60,7 @@ pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     let crit = Criterion {
         max_ape_m: args.diverge_ape,
         max_step_m: args.diverge_step,
+        t_max_diff_s: args.t_max_diff,
     };
     let (mut rows, series): (Vec<Row>, Vec<Series>) = plans
         .iter()

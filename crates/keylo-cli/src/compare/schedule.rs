@@ -39,6 +39,28 @@ pub struct Outcome {
     pub error: Option<String>,
 }
 
+/// The file in a run folder that records what the run was asked to do.
+const PLAN_FILE: &str = "compare-plan.json";
+
+/// What a run was asked: config, data, ground truth and overrides (resume compares these).
+fn plan_text(plan: &Planned) -> String {
+    let v = serde_json::json!({
+        "config": plan.config.as_ref().map(|p| p.display().to_string()),
+        "data": plan.data.display().to_string(),
+        "gt": plan.gt.as_ref().map(|p| p.display().to_string()),
+        "sets": plan.sets,
+    });
+    serde_json::to_string_pretty(&v).unwrap_or_default()
+}
+
+/// Whether a finished run may be reused: its recorded plan (when it has one) is this plan.
+fn same_plan(plan: &Planned) -> bool {
+    match std::fs::read_to_string(plan.dir.join(PLAN_FILE)) {
+        Ok(text) => text == plan_text(plan),
+        Err(_) => true,
+    }
+}
+
 /// True when `dir/summary.json` is a finished summary (written last by `keylo run`).
 pub fn is_done(dir: &Path) -> bool {
     std::fs::read_to_string(dir.join("summary.json"))
@@ -110,13 +132,22 @@ fn run_one(
     threads: Option<usize>,
     rerun: bool,
 ) -> Result<Outcome, CompareError> {
-    if !rerun && is_done(&plan.dir) {
+    let done = is_done(&plan.dir);
+    if !rerun && done && same_plan(plan) {
         return Ok(Outcome {
             resumed: true,
             ..Outcome::default()
         });
     }
+    if done && !rerun {
+        eprintln!(
+            "note: {}: its folder holds a finished run of other settings ({PLAN_FILE}); running it again",
+            plan.id
+        );
+    }
     std::fs::create_dir_all(&plan.dir).map_err(|e| CompareError::io(&plan.dir, e))?;
+    let plan_path = plan.dir.join(PLAN_FILE);
+    std::fs::write(&plan_path, plan_text(plan)).map_err(|e| CompareError::io(&plan_path, e))?;
     // A summary left by an earlier, unfinished attempt must not count as this run's.
     let _ = std::fs::remove_file(plan.dir.join("summary.json"));
     let mut cmd = Command::new(exe);

@@ -9,7 +9,7 @@ use serde_json::Value;
 use super::metrics::{Criterion, Row};
 
 /// Columns of the full table: (JSON/CSV field, Markdown header, decimals).
-const COLUMNS: [(&str, &str, usize); 22] = [
+const COLUMNS: [(&str, &str, usize); 23] = [
     ("data", "data", 0),
     ("variant", "variant", 0),
     ("config", "config", 0),
@@ -19,6 +19,7 @@ const COLUMNS: [(&str, &str, usize); 22] = [
     ("reason", "reason", 0),
     ("resumed", "resumed", 0),
     ("frames", "frames", 0),
+    ("associated_poses", "poses vs GT", 0),
     ("trans_mean_m", "trans. mean (m)", 3),
     ("trans_rmse_m", "trans. RMSE (m)", 3),
     ("trans_max_m", "trans. max (m)", 3),
@@ -85,6 +86,7 @@ fn quote(s: &str) -> String {
 pub fn json(rows: &[Row], crit: &Criterion) -> String {
     let doc = serde_json::json!({
         "criterion": { "max_ape_m": crit.max_ape_m, "max_step_m": crit.max_step_m,
+                       "t_max_diff_s": crit.t_max_diff_s,
                        "text": crit.describe() },
         "runs": rows,
     });
