@@ -31,6 +31,8 @@ pub enum Command {
     Info(InfoArgs),
     /// Write the frames of any source as KITTI .bin, PLY, PCD or a keylo frame folder.
     Convert(ConvertArgs),
+    /// Run several configs (and a grid of overrides) on the same data; tables and plots.
+    Compare(CompareArgs),
     /// Inspect configs and the registered backends.
     #[command(subcommand)]
     Config(ConfigCommand),
@@ -56,6 +58,55 @@ pub struct RunArgs {
     /// Override a config value, e.g. --set registrar.voxel_size=0.5 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
+}
+
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Grid keys are any --set key; k_sig and k_rng (or downsampler.k_sig, \
+downsampler.k_rng) stand for downsampler.windows.signal and downsampler.windows.range, and \
+window sizes are merged into one downsampler.windows table per run. Example (the paper's \
+neighbour-size table): keylo compare configs/paper/outdoor-akaze-kiss-icp.toml --data SEQ \
+--grid k_sig=4,5,7 --grid k_rng=4,5,7"
+)]
+pub struct CompareArgs {
+    /// Pipeline configs (TOML) to compare; none: the built-in default pipeline.
+    pub configs: Vec<PathBuf>,
+    /// Data to run every config on (repeatable: each is one column of the tables).
+    #[arg(long, required = true)]
+    pub data: Vec<PathBuf>,
+    /// Ground truth (TUM or KITTI) for a single --data; default: gt.tum beside each data.
+    #[arg(long)]
+    pub gt: Option<PathBuf>,
+    /// Output folder: compare.md/.csv/.json, plots/, runs/<data>/<variant>/.
+    #[arg(long, default_value = "compare")]
+    pub out: PathBuf,
+    /// Runs at a time (each is its own process; more than one perturbs CPU % and rate).
+    #[arg(long, default_value_t = 1)]
+    pub jobs: usize,
+    /// A grid axis KEY=V1,V2,… (repeatable; every combination is run).
+    #[arg(long = "grid", value_name = "KEY=V1,V2,...")]
+    pub grids: Vec<String>,
+    /// Override a config value in every run (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// Diverged when the largest aligned translation error exceeds this (m).
+    #[arg(long, default_value_t = 2.0)]
+    pub diverge_ape: f64,
+    /// Diverged when one step between consecutive estimated poses exceeds this (m).
+    #[arg(long, default_value_t = 5.0)]
+    pub diverge_step: f64,
+    /// Largest stamp difference (s) when pairing poses with ground truth (evo `--t_max_diff`).
+    #[arg(long, default_value_t = 0.01)]
+    pub t_max_diff: f64,
+    /// Run again even where a finished summary.json is found.
+    #[arg(long)]
+    pub rerun: bool,
+    /// Print the planned runs (folder and --set overrides) and stop.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// No plots.
+    #[arg(long)]
+    pub no_plots: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

@@ -73,6 +73,8 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         Some(trajectories::stamped(t, "the source's ground truth"))
     });
     add_accuracy(&mut summary, &outcome.trajectory, gt);
+    // summary.json comes last: `keylo compare` takes it as the mark of a finished run.
+    report::write_frames(&out, &outcome.per_frame)?;
     report::write_outputs(
         &out,
         &outcome.trajectory,
@@ -110,6 +112,7 @@ struct RunState {
     skipped: usize,
     failure: Option<Failure>,
     interrupted: bool,
+    per_frame: Vec<report::FrameRow>,
 }
 
 /// Set by Ctrl-C: the run stops after the current frame and writes what it has.
@@ -149,12 +152,22 @@ fn process_all(
         next = frame.index + 1;
         let t = Instant::now();
         let result = pipeline.odometry.process(&frame);
-        st.totals.odometry_seconds += t.elapsed().as_secs_f64();
+        let seconds = t.elapsed().as_secs_f64();
+        st.totals.odometry_seconds += seconds;
         progress.inc(1);
         match result {
             Ok(r) => {
                 st.trajectory.push(r.stamp, r.pose);
                 st.totals.add(&r);
+                st.per_frame.push(report::FrameRow {
+                    frame: frame.index,
+                    stamp: r.stamp,
+                    keypoints: r.keypoints,
+                    cloud_points: r.cloud_points,
+                    registered_points: r.registered_points,
+                    odometry_ms: 1e3 * seconds,
+                    rss_mb: resources::rss_mb(),
+                });
             }
             Err(e @ CoreError::BadFrame { .. })
                 if config.output.on_bad_frame == OnBadFrame::Skip =>

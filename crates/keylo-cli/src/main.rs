@@ -7,6 +7,7 @@ mod cmd_eval;
 mod cmd_info;
 mod cmd_run;
 mod cmd_sim;
+mod compare;
 mod configs;
 mod report;
 mod resources;
@@ -52,6 +53,7 @@ fn main() -> ExitCode {
         Command::Info(a) => cmd_info::run(a),
         Command::Convert(a) => cmd_convert::run(a, cli.quiet),
         Command::Config(a) => cmd_config::run(a),
+        Command::Compare(a) => compare::run(a, cli.threads, cli.quiet),
     };
     match outcome {
         Ok(code) => code,
@@ -64,7 +66,7 @@ fn main() -> ExitCode {
 
 /// The error and its causes joined by ": ", leaving out a cause whose text the message
 /// already holds (library errors often print their source themselves).
-fn error_chain(e: &anyhow::Error) -> String {
+pub fn error_chain(e: &anyhow::Error) -> String {
     let mut text = String::new();
     for cause in e.chain() {
         let part = cause.to_string();

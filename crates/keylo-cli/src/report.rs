@@ -132,6 +132,41 @@ pub fn write_outputs(
     Ok(())
 }
 
+/// One registered frame in `frames.csv`: what `keylo compare` plots over time.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameRow {
+    pub frame: u64,
+    pub stamp: f64,
+    pub keypoints: usize,
+    pub cloud_points: usize,
+    pub registered_points: usize,
+    /// Milliseconds of the odometry stages for this frame (source reading excluded).
+    pub odometry_ms: f64,
+    /// Resident set size after the frame, MB (`None` off Linux).
+    pub rss_mb: Option<f64>,
+}
+
+/// Header of `frames.csv`.
+pub const FRAMES_CSV_HEADER: &str =
+    "frame,stamp,keypoints,cloud_points,registered_points,odometry_ms,rss_mb";
+
+/// Writes `frames.csv`: one line per registered frame.
+pub fn write_frames(dir: &Path, rows: &[FrameRow]) -> Result<()> {
+    let mut text = String::with_capacity(64 * (rows.len() + 1));
+    text.push_str(FRAMES_CSV_HEADER);
+    text.push('\n');
+    for r in rows {
+        let rss = r.rss_mb.map_or(String::new(), |v| format!("{v:.1}"));
+        text.push_str(&format!(
+            "{},{:.6},{},{},{},{:.3},{rss}\n",
+            r.frame, r.stamp, r.keypoints, r.cloud_points, r.registered_points, r.odometry_ms
+        ));
+    }
+    let p = dir.join("frames.csv");
+    std::fs::write(&p, text).with_context(|| format!("writing {}", p.display()))?;
+    Ok(())
+}
+
 /// The human-readable result table.
 pub fn table(s: &Summary) -> String {
     let opt =

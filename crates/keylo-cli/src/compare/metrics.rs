@@ -1,0 +1,304 @@
+//! One table row per run: accuracy against ground truth, resources, points, rate and the
+//! divergence verdict, read from what `keylo run` wrote (summary.json, trajectory.tum,
+//! frames.csv, config.toml).
+
+use std::path::Path;
+
+use keylo::eval::ape::{ape, ApeOptions};
+use keylo::eval::associate::{associate_labeled, AssociateOptions};
+use keylo::Trajectory;
+use serde::Serialize;
+use serde_json::Value;
+
+use super::schedule::{Outcome, Planned};
+use crate::trajectories;
+
+/// When a run counts as diverged (printed under every table).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Criterion {
+    /// Largest aligned translation error (APE, metres) a run may reach.
+    pub max_ape_m: f64,
+    /// Largest translation between consecutive estimated poses, metres.
+    pub max_step_m: f64,
+    /// Largest stamp difference when pairing estimate and ground truth, seconds (evo
+    /// `--t_max_diff`).
+    pub t_max_diff_s: f64,
+}
+
+impl Criterion {
+    pub fn describe(&self) -> String {
+        format!(
+            "a run is **diverged** when its largest aligned translation error (APE, SE(3) \
+             Umeyama alignment as `evo_ape -a`) exceeds {} m (`--diverge-ape`), when one step \
+             between consecutive estimated poses exceeds {} m (`--diverge-step`), or when a \
+             pose is not finite; **failed** when `keylo run` stopped before the end of the \
+             data (its figures cover the frames before the failure); accuracy of a diverged \
+             or failed run is shown as N/A in the paper-shaped tables; APE is over the poses \
+             paired with ground truth within {} s (`--t-max-diff`, evo's `--t_max_diff`)",
+            self.max_ape_m, self.max_step_m, self.t_max_diff_s
+        )
+    }
+}
+
+/// One run's figures. Field order is the column order of the CSV and Markdown tables.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Row {
+    pub data: String,
+    pub variant: String,
+    pub config: String,
+    pub registrar: String,
+    pub downsampler: String,
+    /// `ok`, `diverged` or `failed`.
+    pub verdict: String,
+    /// Why the verdict (the criterion that fired, or the error).
+    pub reason: String,
+    /// The run was found finished and not run again.
+    pub resumed: bool,
+    pub frames: Option<usize>,
+    /// Poses paired with ground truth (APE is over these).
+    pub associated_poses: Option<usize>,
+    pub trans_mean_m: Option<f64>,
+    pub trans_rmse_m: Option<f64>,
+    pub trans_max_m: Option<f64>,
+    pub rot_mean_deg: Option<f64>,
+    pub rot_rmse_deg: Option<f64>,
+    pub rpe_trans_m: Option<f64>,
+    pub rpe_rot_deg: Option<f64>,
+    pub cpu_percent: Option<f64>,
+    pub peak_rss_mb: Option<f64>,
+    /// Mean points the downsampler handed to the registrar (the paper's "Avg Pts").
+    pub mean_points: Option<f64>,
+    /// Mean points the registrar aligned after its own voxel filter.
+    pub mean_registered_points: Option<f64>,
+    /// Frames per second of the odometry stages, un-throttled (source reading excluded).
+    pub odometry_hz: Option<f64>,
+    /// Odometry rate relative to the raw-cloud (`passthrough`) run of the same data and
+    /// registrar kind, when the comparison has one.
+    pub rate_vs_raw: Option<f64>,
+}
+
+/// Per-frame series of a run, for the plots.
+#[derive(Debug, Clone, Default)]
+pub struct Series {
+    /// Aligned estimate positions (x, y) and the matched ground truth (x, y).
+    pub est_xy: Vec<(f64, f64)>,
+    pub gt_xy: Vec<(f64, f64)>,
+    /// (time since the first frame s, APE m).
+    pub ape: Vec<(f64, f64)>,
+    /// (frame, points to registrar), (frame, Hz), (frame, RSS MB).
+    pub points: Vec<(f64, f64)>,
+    pub rate: Vec<(f64, f64)>,
+    pub rss: Vec<(f64, f64)>,
+}
+
+/// Builds the row and series of one run.
+pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Series) {
+    let mut row = Row {
+        data: plan.data_label.clone(),
+        variant: plan.variant.clone(),
+        config: plan
+            .config
+            .as_ref()
+            .map_or("built-in default".into(), |p| p.display().to_string()),
+        resumed: outcome.resumed,
+        ..Row::default()
+    };
+    let mut series = Series::default();
+    read_kinds(&plan.dir, &mut row);
+    let summary = read_json(&plan.dir.join("summary.json"));
+    if let Some(s) = &summary {
+        fill_from_summary(s, &mut row);
+    }
+    read_frames(&plan.dir.join("frames.csv"), &mut series);
+    let est = trajectories::read(&plan.dir.join("trajectory.tum"))
+        .ok()
+        .map(|l| l.trajectory);
+    let gt = plan
+        .gt
+        .as_ref()
+        .and_then(|p| trajectories::read(p).ok())
+        .map(|l| l.trajectory);
+    if let (Some(est), Some(gt)) = (&est, &gt) {
+        fill_ape(est, gt, crit.t_max_diff_s, &mut row, &mut series);
+    }
+    let stopped = summary
+        .as_ref()
+        .and_then(|s| s.get("failed"))
+        .filter(|f| !f.is_null())
+        .map(|f| {
+            format!(
+                "stopped at frame {}: {}",
+                f["frame"],
+                f["error"].as_str().unwrap_or("?")
+            )
+        });
+    let (verdict, reason) = if let Some(why) = stopped {
+        ("failed", why)
+    } else if summary.is_none() {
+        let why = outcome
+            .error
+            .clone()
+            .unwrap_or_else(|| "no summary.json".into());
+        ("failed", why)
+    } else {
+        divergence(est.as_ref(), &row, crit, gt.is_some())
+    };
+    row.verdict = verdict.into();
+    row.reason = reason;
+    (row, series)
+}
+
+fn divergence(
+    est: Option<&Trajectory>,
+    row: &Row,
+    crit: &Criterion,
+    has_gt: bool,
+) -> (&'static str, String) {
+    let Some(est) = est else {
+        return ("failed", "no trajectory.tum".into());
+    };
+    let finite = est.poses.iter().all(|p| {
+        p.translation.vector.iter().all(|v| v.is_finite())
+            && p.rotation.coords.iter().all(|v| v.is_finite())
+    });
+    if !finite {
+        return ("diverged", "a pose is not finite".into());
+    }
+    let step = est
+        .poses
+        .windows(2)
+        .map(|w| (w[1].translation.vector - w[0].translation.vector).norm())
+        .fold(0.0, f64::max);
+    if step > crit.max_step_m {
+        return (
+            "diverged",
+            format!("a step of {step:.2} m > {} m", crit.max_step_m),
+        );
+    }
+    match row.trans_max_m {
+        Some(m) if m > crit.max_ape_m => (
+            "diverged",
+            format!("max APE {m:.2} m > {} m", crit.max_ape_m),
+        ),
+        Some(m) => ("ok", format!("max APE {m:.3} m, largest step {step:.2} m")),
+        None if has_gt => ("ok", "no APE (trajectory not associable)".into()),
+        None => ("ok", "no ground truth: step check only".into()),
+    }
+}
+
+fn read_json(path: &Path) -> Option<Value> {
+    serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()
+}
+
+fn read_kinds(dir: &Path, row: &mut Row) {
+    let Some(table) = std::fs::read_to_string(dir.join("config.toml"))
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+    else {
+        return;
+    };
+    let kind = |s: &str| {
+        table
+            .get(s)
+            .and_then(|v| v.get("kind"))
+            .and_then(toml::Value::as_str)
+            .unwrap_or("")
+            .to_string()
+    };
+    row.registrar = kind("registrar");
+    row.downsampler = kind("downsampler");
+}
+
+fn fill_from_summary(s: &Value, row: &mut Row) {
+    let f = |k: &str| s.get(k).and_then(Value::as_f64);
+    row.frames = s.get("frames").and_then(Value::as_u64).map(|n| n as usize);
+    row.cpu_percent = f("cpu_percent");
+    row.peak_rss_mb = f("peak_rss_mb");
+    row.mean_points = f("mean_cloud_points");
+    row.mean_registered_points = f("mean_registered_points");
+    row.odometry_hz = f("odometry_hz");
+    let acc = s.get("accuracy");
+    let a = |k: &str| acc.and_then(|a| a.get(k)).and_then(Value::as_f64);
+    row.rpe_trans_m = a("rpe_trans_rmse_m");
+    row.rpe_rot_deg = a("rpe_rot_rmse_deg");
+}
+
+fn fill_ape(
+    est: &Trajectory,
+    gt: &Trajectory,
+    t_max_diff: f64,
+    row: &mut Row,
+    series: &mut Series,
+) {
+    let opts = AssociateOptions {
+        max_diff: t_max_diff,
+        ..AssociateOptions::default()
+    };
+    let Ok(pairs) = associate_labeled(gt, "ground truth", est, "estimate", &opts) else {
+        return;
+    };
+    let Ok(result) = ape(&pairs, &ApeOptions::default()) else {
+        return;
+    };
+    row.associated_poses = Some(pairs.len());
+    row.trans_mean_m = Some(result.translation.mean);
+    row.trans_rmse_m = Some(result.translation.rmse);
+    row.trans_max_m = Some(result.translation.max);
+    row.rot_mean_deg = Some(result.rotation_deg.mean);
+    row.rot_rmse_deg = Some(result.rotation_deg.rmse);
+    let aligned = result.alignment.apply_trajectory(&pairs.estimate);
+    series.est_xy = xy(&aligned);
+    series.gt_xy = xy(&pairs.reference);
+    let t0 = pairs.reference.stamps.first().copied().unwrap_or(0.0);
+    series.ape = pairs
+        .reference
+        .stamps
+        .iter()
+        .zip(&result.translation_errors)
+        .map(|(t, e)| (t - t0, *e))
+        .collect();
+}
+
+fn xy(t: &Trajectory) -> Vec<(f64, f64)> {
+    t.poses
+        .iter()
+        .map(|p| (p.translation.vector.x, p.translation.vector.y))
+        .collect()
+}
+
+fn read_frames(path: &Path, series: &mut Series) {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return;
+    };
+    for line in text.lines().skip(1) {
+        let cols: Vec<&str> = line.split(',').collect();
+        let num = |i: usize| cols.get(i).and_then(|v| v.parse::<f64>().ok());
+        let Some(frame) = num(0) else { continue };
+        if let Some(p) = num(3) {
+            series.points.push((frame, p));
+        }
+        if let Some(ms) = num(5).filter(|ms| *ms > 0.0) {
+            series.rate.push((frame, 1e3 / ms));
+        }
+        if let Some(r) = num(6) {
+            series.rss.push((frame, r));
+        }
+    }
+}
+
+/// Fills `rate_vs_raw`: each run's odometry rate over that of the `passthrough` run with the
+/// same data and registrar kind.
+pub fn add_rate_ratios(rows: &mut [Row]) {
+    let raw: Vec<(String, String, f64)> = rows
+        .iter()
+        .filter(|r| r.downsampler == "passthrough")
+        .filter_map(|r| Some((r.data.clone(), r.registrar.clone(), r.odometry_hz?)))
+        .collect();
+    for r in rows.iter_mut() {
+        let base = raw
+            .iter()
+            .find(|(d, k, _)| *d == r.data && *k == r.registrar)
+            .map(|(_, _, hz)| *hz);
+        r.rate_vs_raw = r.odometry_hz.zip(base).map(|(a, b)| a / b.max(1e-12));
+    }
+}

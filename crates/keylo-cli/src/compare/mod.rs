@@ -1,0 +1,352 @@
+//! `keylo compare`: run several configs (and a grid of overrides) on the same data, each as
+//! its own `keylo run` child process, and tabulate and plot the results the way the paper's
+//! tables do.
+//!
+//! * [`grid`]: `--grid KEY=V1,V2,…` parsing and expansion.
+//! * [`schedule`]: child processes, `--jobs`, resume.
+//! * [`metrics`]: one row per run, the divergence verdict.
+//! * [`tables`]: Markdown, CSV, JSON.
+//! * [`plots`]: PNG + SVG figures.
+
+mod error;
+mod grid;
+mod metrics;
+mod plots;
+mod schedule;
+mod tables;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{bail, Context, Result};
+
+use crate::args::CompareArgs;
+use crate::configs;
+use error::CompareError;
+use metrics::{Criterion, Row, Series};
+use schedule::Planned;
+
+pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
+    if args.gt.is_some() && args.data.len() > 1 {
+        bail!("--gt names one ground truth, but {} --data were given: put a gt.tum beside each data instead", args.data.len());
+    }
+    if args.jobs == 0 {
+        bail!("--jobs 0: expected at least 1");
+    }
+    let axes = args
+        .grids
+        .iter()
+        .map(|g| grid::parse_axis(g))
+        .collect::<Result<Vec<_>, _>>()?;
+    grid::expand(&axes)?; // two axes on one key
+    let plans = plan(&args, &axes, quiet)?;
+    if args.dry_run {
+        for p in &plans {
+            println!("{}\t{}", p.id, p.sets.join(" "));
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    if !quiet {
+        eprintln!(
+            "keylo compare: {} runs, {} at a time, into {}",
+            plans.len(),
+            args.jobs,
+            args.out.display()
+        );
+    }
+    let outcomes = schedule::run_all(&plans, args.jobs, threads, args.rerun, quiet)?;
+    let crit = Criterion {
+        max_ape_m: args.diverge_ape,
+        max_step_m: args.diverge_step,
+        t_max_diff_s: args.t_max_diff,
+    };
+    let (mut rows, series): (Vec<Row>, Vec<Series>) = plans
+        .iter()
+        .zip(&outcomes)
+        .map(|(p, o)| metrics::collect(p, o, &crit))
+        .unzip();
+    metrics::add_rate_ratios(&mut rows);
+    let md = tables::markdown(&rows, &crit);
+    write(&args.out.join("compare.md"), &md)?;
+    write(&args.out.join("compare.csv"), &tables::csv(&rows))?;
+    write(&args.out.join("compare.json"), &tables::json(&rows, &crit))?;
+    if !args.no_plots {
+        write_plots(&args.out, &plans, &rows, &series)?;
+    }
+    if !quiet {
+        println!("{md}");
+        println!(
+            "written: {} (compare.md, compare.csv, compare.json{})",
+            args.out.display(),
+            if args.no_plots { "" } else { ", plots/" }
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn write(path: &Path, text: &str) -> Result<(), CompareError> {
+    std::fs::write(path, text).map_err(|e| CompareError::io(path, e))
+}
+
+/// Every (data, config, grid point), checked. Each grid key is first tried alone on every
+/// config: a key no config accepts is an error that names it; a key only some configs accept
+/// (window sizes and a raw-cloud config) is left out for the others, which run once.
+fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Planned>> {
+    let registry = keylo::registry();
+    let configs: Vec<Option<PathBuf>> = if args.configs.is_empty() {
+        vec![None]
+    } else {
+        args.configs.iter().cloned().map(Some).collect()
+    };
+    let Some(first_data) = args.data.first() else {
+        bail!("--data: at least one is needed");
+    };
+    let mut per_config = Vec::new();
+    for config in &configs {
+        let base = configs::load(
+            &registry,
+            config.as_deref(),
+            Some(first_data),
+            None,
+            &args.sets,
+        )?;
+        let windows = grid::windows_of(base.downsampler.params.get("windows"));
+        let rejected = rejected_axes(
+            &registry,
+            config.as_deref(),
+            first_data,
+            &args.sets,
+            axes,
+            &windows,
+        );
+        per_config.push((config, windows, rejected));
+    }
+    for (i, a) in axes.iter().enumerate() {
+        if per_config
+            .iter()
+            .all(|(_, _, r)| r.iter().any(|(j, _)| *j == i))
+        {
+            let why = per_config
+                .iter()
+                .filter_map(|(_, _, r)| r.iter().find(|(j, _)| *j == i).map(|(_, m)| m.clone()))
+                .collect::<Vec<_>>()
+                .join("; ");
+            return Err(CompareError::BadGrid {
+                key: a.name.clone(),
+                message: why,
+            }
+            .into());
+        }
+    }
+    let data_labels = labels(&args.data);
+    let mut plans = Vec::new();
+    for (config, windows, rejected) in &per_config {
+        let kept: Vec<grid::Axis> = axes
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !rejected.iter().any(|(j, _)| j == i))
+            .map(|(_, a)| a.clone())
+            .collect();
+        if !quiet {
+            for (_, why) in rejected {
+                eprintln!("note: grid axis left out (this config runs once without it): {why}");
+            }
+        }
+        let stem = config_stem(config.as_deref());
+        for point in grid::expand(&kept)? {
+            let mut sets = args.sets.clone();
+            sets.extend(grid::set_strings(&point, windows));
+            let variant = variant_label(&stem, &grid::label(&point, windows), configs.len() > 1);
+            for (data, data_label) in args.data.iter().zip(&data_labels) {
+                configs::load(&registry, config.as_deref(), Some(data), None, &sets)
+                    .with_context(|| format!("configuration {variant} on {data_label}"))?;
+                let id = format!("{data_label}/{}", slug(&variant));
+                plans.push(Planned {
+                    dir: args.out.join("runs").join(&id),
+                    id,
+                    data_label: data_label.clone(),
+                    variant: variant.clone(),
+                    config: (*config).clone(),
+                    data: data.clone(),
+                    gt: args
+                        .gt
+                        .clone()
+                        .or_else(|| Some(data.join("gt.tum")).filter(|p| p.is_file())),
+                    sets: sets.clone(),
+                });
+            }
+        }
+    }
+    Ok(plans)
+}
+
+/// The axes (index, why) that `config` rejects when each of their values is set alone.
+fn rejected_axes(
+    registry: &keylo::Registry,
+    config: Option<&Path>,
+    data: &Path,
+    sets: &[String],
+    axes: &[grid::Axis],
+    windows: &std::collections::BTreeMap<String, usize>,
+) -> Vec<(usize, String)> {
+    let mut out = Vec::new();
+    for (i, a) in axes.iter().enumerate() {
+        for v in &a.values {
+            let mut all = sets.to_vec();
+            all.extend(grid::set_strings(
+                &vec![(a.name.clone(), a.key.clone(), v.clone())],
+                windows,
+            ));
+            if let Err(e) = configs::load(registry, config, Some(data), None, &all) {
+                let config =
+                    config.map_or("the built-in config".into(), |p| p.display().to_string());
+                out.push((
+                    i,
+                    format!(
+                        "{} = {v} is not valid for {config}: {}",
+                        a.key,
+                        crate::error_chain(&e)
+                    ),
+                ));
+                break;
+            }
+        }
+    }
+    out
+}
+
+fn config_stem(config: Option<&Path>) -> String {
+    config
+        .and_then(Path::file_stem)
+        .map_or("default".into(), |s| s.to_string_lossy().into_owned())
+}
+
+fn variant_label(stem: &str, grid: &str, many_configs: bool) -> String {
+    match (grid.is_empty(), many_configs) {
+        (true, _) => stem.to_string(),
+        (false, false) => grid.to_string(),
+        (false, true) => format!("{stem} {grid}"),
+    }
+}
+
+/// A folder name: letters, digits, `.`, `-`, `_`, `=`; anything else becomes `_`.
+fn slug(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || ".-_=".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Unique labels of the data paths (their file stems, numbered when two agree).
+fn labels(data: &[PathBuf]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for d in data {
+        let abs = std::path::absolute(d).unwrap_or_else(|_| d.clone());
+        let base = slug(
+            &abs.file_stem()
+                .map_or("data".into(), |s| s.to_string_lossy().into_owned()),
+        );
+        let mut label = base.clone();
+        let mut n = 2;
+        while out.contains(&label) {
+            label = format!("{base}-{n}");
+            n += 1;
+        }
+        out.push(label);
+    }
+    out
+}
+
+fn write_plots(out: &Path, plans: &[Planned], rows: &[Row], series: &[Series]) -> Result<()> {
+    let mut data: Vec<&str> = Vec::new();
+    for p in plans {
+        if !data.contains(&p.data_label.as_str()) {
+            data.push(&p.data_label);
+        }
+    }
+    for d in data {
+        let dir = out.join("plots").join(d);
+        std::fs::create_dir_all(&dir).map_err(|e| CompareError::io(&dir, e))?;
+        let runs: Vec<(&Row, &Series)> = rows
+            .iter()
+            .zip(series)
+            .filter(|(r, _)| r.data == d)
+            .collect();
+        for fig in figures(d, &runs) {
+            plots::write(&dir, &fig)?;
+        }
+    }
+    Ok(())
+}
+
+fn figures(data: &str, runs: &[(&Row, &Series)]) -> Vec<plots::Figure> {
+    let named = |f: &dyn Fn(&Series) -> Vec<(f64, f64)>| -> Vec<plots::Line> {
+        runs.iter()
+            .map(|(r, s)| plots::Line {
+                name: format!("{} [{}]", r.variant, r.verdict),
+                points: f(s),
+                reference: false,
+            })
+            .collect()
+    };
+    let mut top = named(&|s| s.est_xy.clone());
+    if let Some((_, s)) = runs.iter().max_by_key(|(_, s)| s.gt_xy.len()) {
+        let gt = plots::Line {
+            name: "ground truth".into(),
+            points: s.gt_xy.clone(),
+            reference: true,
+        };
+        top.insert(0, gt);
+    }
+    let fig = |stem: &str, title: String, x: &str, y: &str, series| plots::Figure {
+        file_stem: stem.into(),
+        title,
+        x_label: x.into(),
+        y_label: y.into(),
+        series,
+    };
+    vec![
+        fig(
+            "trajectories",
+            format!("{data}: trajectories from above (SE(3)-aligned)"),
+            "x (m)",
+            "y (m)",
+            top,
+        ),
+        fig(
+            "ape",
+            format!("{data}: translation error over time"),
+            "time (s)",
+            "APE (m)",
+            named(&|s| s.ape.clone()),
+        ),
+        fig(
+            "points",
+            format!("{data}: points per registered frame"),
+            "frame",
+            "points to registrar",
+            named(&|s| s.points.clone()),
+        ),
+        fig(
+            "rate",
+            format!("{data}: odometry rate per frame (un-throttled)"),
+            "frame",
+            "rate (Hz)",
+            named(&|s| s.rate.clone()),
+        ),
+        fig(
+            "rss",
+            format!("{data}: resident memory"),
+            "frame",
+            "RSS (MB)",
+            named(&|s| s.rss.clone()),
+        ),
+    ]
+}

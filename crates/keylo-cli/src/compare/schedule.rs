@@ -1,0 +1,203 @@
+//! Running each planned configuration as its own `keylo run` child process, N at a time,
+//! skipping runs whose folder already holds a finished `summary.json`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use super::error::CompareError;
+
+/// One run to do: what `keylo run` gets and where it writes.
+#[derive(Debug, Clone)]
+pub struct Planned {
+    /// `data-label/variant`, unique; also the run folder under `<out>/runs/`.
+    pub id: String,
+    /// Label of the data (a column of the paper-shaped tables).
+    pub data_label: String,
+    /// Label of the configuration (a row of the paper-shaped tables).
+    pub variant: String,
+    pub config: Option<PathBuf>,
+    pub data: PathBuf,
+    pub gt: Option<PathBuf>,
+    /// `--set` strings: the user's, then the grid point's.
+    pub sets: Vec<String>,
+    pub dir: PathBuf,
+}
+
+/// How a run ended, as the scheduler saw it.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct Outcome {
+    /// The run was not started: its folder already had a finished summary.json.
+    pub resumed: bool,
+    /// Exit status of `keylo run` (`None`: killed by a signal, or resumed).
+    pub exit_code: Option<i32>,
+    /// Seconds the child ran.
+    pub seconds: f64,
+    /// The last line of the child's stderr when it failed.
+    pub error: Option<String>,
+}
+
+/// The file in a run folder that records what the run was asked to do.
+const PLAN_FILE: &str = "compare-plan.json";
+
+/// What a run was asked: config, data, ground truth and overrides (resume compares these).
+fn plan_text(plan: &Planned) -> String {
+    let v = serde_json::json!({
+        "config": plan.config.as_ref().map(|p| p.display().to_string()),
+        "data": plan.data.display().to_string(),
+        "gt": plan.gt.as_ref().map(|p| p.display().to_string()),
+        "sets": plan.sets,
+    });
+    serde_json::to_string_pretty(&v).unwrap_or_default()
+}
+
+/// Whether a finished run may be reused: its recorded plan (when it has one) is this plan.
+fn same_plan(plan: &Planned) -> bool {
+    match std::fs::read_to_string(plan.dir.join(PLAN_FILE)) {
+        Ok(text) => text == plan_text(plan),
+        Err(_) => true,
+    }
+}
+
+/// True when `dir/summary.json` is a finished summary (written last by `keylo run`).
+pub fn is_done(dir: &Path) -> bool {
+    std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .is_some_and(|v| v.get("frames").is_some())
+}
+
+/// Runs every plan (`jobs` at a time) and returns their outcomes in plan order.
+pub fn run_all(
+    plans: &[Planned],
+    jobs: usize,
+    threads: Option<usize>,
+    rerun: bool,
+    quiet: bool,
+) -> Result<Vec<Outcome>, CompareError> {
+    let exe = std::env::current_exe().map_err(|e| CompareError::Spawn {
+        run: "every run".into(),
+        source: e,
+    })?;
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Result<Outcome, CompareError>>>> =
+        Mutex::new(plans.iter().map(|_| None).collect());
+    std::thread::scope(|s| {
+        for _ in 0..jobs.clamp(1, plans.len().max(1)) {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                let Some(plan) = plans.get(i) else { break };
+                let r = run_one(&exe, plan, threads, rerun);
+                let n = done.fetch_add(1, Ordering::SeqCst) + 1;
+                if !quiet {
+                    eprintln!("[{n}/{}] {}: {}", plans.len(), plan.id, describe(&r));
+                }
+                if let Ok(mut v) = results.lock() {
+                    v[i] = Some(r);
+                }
+            });
+        }
+    });
+    let results = results.into_inner().unwrap_or_default();
+    results
+        .into_iter()
+        .map(|r| r.unwrap_or_else(|| Ok(Outcome::default())))
+        .collect()
+}
+
+fn describe(r: &Result<Outcome, CompareError>) -> String {
+    match r {
+        Err(e) => format!("error: {e}"),
+        Ok(o) if o.resumed => "skipped: summary.json of an earlier run is there \
+                               (resumed; --rerun runs it again)"
+            .into(),
+        Ok(o) => match (o.exit_code, &o.error) {
+            (Some(0), _) => format!("done in {:.1} s", o.seconds),
+            (code, err) => format!(
+                "failed ({}) after {:.1} s: {}",
+                code.map_or("killed by a signal".into(), |c| format!("exit status {c}")),
+                o.seconds,
+                err.as_deref().unwrap_or("no message")
+            ),
+        },
+    }
+}
+
+fn run_one(
+    exe: &Path,
+    plan: &Planned,
+    threads: Option<usize>,
+    rerun: bool,
+) -> Result<Outcome, CompareError> {
+    let done = is_done(&plan.dir);
+    if !rerun && done && same_plan(plan) {
+        return Ok(Outcome {
+            resumed: true,
+            ..Outcome::default()
+        });
+    }
+    if done && !rerun {
+        eprintln!(
+            "note: {}: its folder holds a finished run of other settings ({PLAN_FILE}); running it again",
+            plan.id
+        );
+    }
+    std::fs::create_dir_all(&plan.dir).map_err(|e| CompareError::io(&plan.dir, e))?;
+    let plan_path = plan.dir.join(PLAN_FILE);
+    std::fs::write(&plan_path, plan_text(plan)).map_err(|e| CompareError::io(&plan_path, e))?;
+    // A summary left by an earlier, unfinished attempt must not count as this run's.
+    let _ = std::fs::remove_file(plan.dir.join("summary.json"));
+    let mut cmd = Command::new(exe);
+    cmd.arg("run");
+    if let Some(c) = &plan.config {
+        cmd.arg(c);
+    }
+    cmd.arg("--data")
+        .arg(&plan.data)
+        .arg("--out")
+        .arg(&plan.dir);
+    if let Some(gt) = &plan.gt {
+        cmd.arg("--gt").arg(gt);
+    }
+    if let Some(t) = threads {
+        cmd.arg("--threads").arg(t.to_string());
+    }
+    for s in &plan.sets {
+        cmd.arg("--set").arg(s);
+    }
+    let log = |name: &str| {
+        let p = plan.dir.join(name);
+        std::fs::File::create(&p).map_err(|e| CompareError::io(&p, e))
+    };
+    cmd.arg("-q")
+        .stdin(Stdio::null())
+        .stdout(log("stdout.log")?)
+        .stderr(log("stderr.log")?);
+    let start = Instant::now();
+    let status = cmd.status().map_err(|e| CompareError::Spawn {
+        run: plan.id.clone(),
+        source: e,
+    })?;
+    let seconds = start.elapsed().as_secs_f64();
+    let error = (!status.success()).then(|| last_line(&plan.dir.join("stderr.log")));
+    Ok(Outcome {
+        resumed: false,
+        exit_code: status.code(),
+        seconds,
+        error,
+    })
+}
+
+/// The error line of a failed run's stderr: its first `error…` or panic line, else its last line.
+fn last_line(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let lines = || text.lines().map(str::trim).filter(|l| !l.is_empty());
+    lines()
+        .find(|l| l.starts_with("error") || l.contains("panicked"))
+        .or_else(|| lines().next_back())
+        .unwrap_or("no message on stderr")
+        .to_string()
+}

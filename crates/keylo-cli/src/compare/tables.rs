@@ -1,0 +1,224 @@
+//! The comparison as tables: every run's figures (Markdown, CSV, JSON), and the paper's
+//! shapes: the neighbour-size accuracy and points tables (variants × data) and the
+//! KISS-ICP / NDT performance table (indicators × variants, one per data).
+
+use std::fmt::Write as _;
+
+use serde_json::Value;
+
+use super::metrics::{Criterion, Row};
+
+/// Columns of the full table: (JSON/CSV field, Markdown header, decimals).
+const COLUMNS: [(&str, &str, usize); 23] = [
+    ("data", "data", 0),
+    ("variant", "variant", 0),
+    ("config", "config", 0),
+    ("registrar", "registrar", 0),
+    ("downsampler", "downsampler", 0),
+    ("verdict", "verdict", 0),
+    ("reason", "reason", 0),
+    ("resumed", "resumed", 0),
+    ("frames", "frames", 0),
+    ("associated_poses", "poses vs GT", 0),
+    ("trans_mean_m", "trans. mean (m)", 3),
+    ("trans_rmse_m", "trans. RMSE (m)", 3),
+    ("trans_max_m", "trans. max (m)", 3),
+    ("rot_mean_deg", "rot. mean (deg)", 2),
+    ("rot_rmse_deg", "rot. RMSE (deg)", 2),
+    ("rpe_trans_m", "RPE trans (m/frame)", 4),
+    ("rpe_rot_deg", "RPE rot (deg/frame)", 3),
+    ("cpu_percent", "CPU (%)", 0),
+    ("peak_rss_mb", "peak RSS (MB)", 1),
+    ("mean_points", "points/frame", 0),
+    ("mean_registered_points", "registered/frame", 0),
+    ("odometry_hz", "rate (Hz)", 1),
+    ("rate_vs_raw", "rate / raw", 2),
+];
+
+fn columns() -> impl Iterator<Item = &'static (&'static str, &'static str, usize)> {
+    COLUMNS.iter()
+}
+
+fn cell(row: &Value, key: &str, digits: usize) -> String {
+    match row.get(key) {
+        None | Some(Value::Null) => String::new(),
+        Some(Value::String(s)) => s.clone(),
+        Some(Value::Bool(b)) => b.to_string(),
+        Some(Value::Number(n)) if n.is_f64() => n
+            .as_f64()
+            .map_or(String::new(), |v| format!("{v:.digits$}")),
+        Some(v) => v.to_string(),
+    }
+}
+
+fn as_values(rows: &[Row]) -> Vec<Value> {
+    rows.iter()
+        .map(|r| serde_json::to_value(r).unwrap_or(Value::Null))
+        .collect()
+}
+
+/// CSV of every run, full precision for numbers (quotes where a field needs them).
+pub fn csv(rows: &[Row]) -> String {
+    let mut out = columns().map(|c| c.0).collect::<Vec<_>>().join(",");
+    out.push('\n');
+    for v in as_values(rows) {
+        let fields: Vec<String> = columns()
+            .map(|c| match v.get(c.0) {
+                Some(Value::Number(n)) => n.to_string(),
+                _ => quote(&cell(&v, c.0, 0)),
+            })
+            .collect();
+        out.push_str(&fields.join(","));
+        out.push('\n');
+    }
+    out
+}
+
+fn quote(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// JSON of every run, with the divergence criterion.
+pub fn json(rows: &[Row], crit: &Criterion) -> String {
+    let doc = serde_json::json!({
+        "criterion": { "max_ape_m": crit.max_ape_m, "max_step_m": crit.max_step_m,
+                       "t_max_diff_s": crit.t_max_diff_s,
+                       "text": crit.describe() },
+        "runs": rows,
+    });
+    serde_json::to_string_pretty(&doc).unwrap_or_default()
+}
+
+/// The Markdown report: the paper-shaped tables, then every run's figures.
+pub fn markdown(rows: &[Row], crit: &Criterion) -> String {
+    let mut md = String::from("# keylo compare\n\n");
+    let data = unique(rows.iter().map(|r| r.data.clone()));
+    let variants = unique(rows.iter().map(|r| r.variant.clone()));
+    md.push_str("## Accuracy: translation error (mean/RMSE, m), rotation error (mean, deg)\n\n");
+    md.push_str(&grid_table(rows, &variants, &data, accuracy_cell));
+    md.push_str("\n## Points per registered frame (mean, handed to the registrar)\n\n");
+    md.push_str(&grid_table(rows, &variants, &data, |r| {
+        r.mean_points.map_or("-".into(), |p| format!("{p:.0}"))
+    }));
+    for d in &data {
+        let _ = write!(md, "\n## Performance on {d}\n\n");
+        md.push_str(&performance(rows, d, &variants));
+    }
+    md.push_str("\n## Every run\n\n");
+    md.push_str(&full_table(rows));
+    let _ = write!(md, "\nDivergence criterion: {}.\n", crit.describe());
+    md
+}
+
+fn unique(items: impl Iterator<Item = String>) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for i in items {
+        if !out.contains(&i) {
+            out.push(i);
+        }
+    }
+    out
+}
+
+fn accuracy_cell(r: &Row) -> String {
+    if r.verdict != "ok" {
+        return format!("N/A ({})", r.verdict);
+    }
+    match (r.trans_mean_m, r.trans_rmse_m, r.rot_mean_deg) {
+        (Some(m), Some(s), Some(d)) => format!("({m:.3}/{s:.3}, {d:.2})"),
+        _ => "- (no ground truth)".into(),
+    }
+}
+
+fn find<'a>(rows: &'a [Row], variant: &str, data: &str) -> Option<&'a Row> {
+    rows.iter().find(|r| r.variant == variant && r.data == data)
+}
+
+fn grid_table(
+    rows: &[Row],
+    variants: &[String],
+    data: &[String],
+    f: impl Fn(&Row) -> String,
+) -> String {
+    let mut md = format!("| configuration | {} |\n", data.join(" | "));
+    md.push_str(&format!("|---|{}\n", "---|".repeat(data.len())));
+    for v in variants {
+        let cells: Vec<String> = data
+            .iter()
+            .map(|d| find(rows, v, d).map_or("(not run)".into(), &f))
+            .collect();
+        md.push_str(&format!("| {v} | {} |\n", cells.join(" | ")));
+    }
+    md
+}
+
+/// One line of the performance table: its name and how a run's cell is written.
+type Indicator<'a> = (&'static str, Box<dyn Fn(&Row) -> String + 'a>);
+
+fn performance(rows: &[Row], data: &str, variants: &[String]) -> String {
+    let runs: Vec<&Row> = variants
+        .iter()
+        .filter_map(|v| find(rows, v, data))
+        .collect();
+    let head: Vec<String> = runs
+        .iter()
+        .map(|r| format!("{} ({})", r.variant, r.registrar))
+        .collect();
+    let mut md = format!("| indicator | {} |\n", head.join(" | "));
+    md.push_str(&format!("|---|{}\n", "---|".repeat(runs.len())));
+    let opt = |v: Option<f64>, d: usize| v.map_or("-".into(), |v| format!("{v:.d$}"));
+    let lines: [Indicator<'_>; 8] = [
+        (
+            "Translation error (m), mean/RMSE",
+            Box::new(
+                |r| match (r.verdict.as_str(), r.trans_mean_m, r.trans_rmse_m) {
+                    ("ok", Some(m), Some(s)) => format!("{m:.3}/{s:.3}"),
+                    ("ok", _, _) => "-".into(),
+                    _ => "N/A".into(),
+                },
+            ),
+        ),
+        (
+            "Rotation error (deg), mean",
+            Box::new(|r| match r.verdict.as_str() {
+                "ok" => opt(r.rot_mean_deg, 2),
+                _ => "N/A".into(),
+            }),
+        ),
+        ("CPU (%)", Box::new(|r| opt(r.cpu_percent, 0))),
+        ("Mem: peak RSS (MB)", Box::new(|r| opt(r.peak_rss_mb, 1))),
+        ("Avg Pts", Box::new(|r| opt(r.mean_points, 0))),
+        (
+            "Odom rate (Hz, un-throttled)",
+            Box::new(|r| opt(r.odometry_hz, 1)),
+        ),
+        ("Rate / raw cloud", Box::new(|r| opt(r.rate_vs_raw, 2))),
+        ("Verdict", Box::new(|r| r.verdict.clone())),
+    ];
+    for (name, f) in &lines {
+        let cells: Vec<String> = runs.iter().map(|r| f(r)).collect();
+        md.push_str(&format!("| {name} | {} |\n", cells.join(" | ")));
+    }
+    md
+}
+
+fn full_table(rows: &[Row]) -> String {
+    let shown: Vec<_> = columns().filter(|c| c.0 != "config").collect();
+    let mut md = format!(
+        "| {} |\n|{}\n",
+        shown.iter().map(|c| c.1).collect::<Vec<_>>().join(" | "),
+        "---|".repeat(shown.len())
+    );
+    for v in as_values(rows) {
+        let cells: Vec<String> = shown
+            .iter()
+            .map(|c| cell(&v, c.0, c.2).replace('|', "\\|"))
+            .collect();
+        md.push_str(&format!("| {} |\n", cells.join(" | ")));
+    }
+    md
+}

@@ -1,0 +1,295 @@
+//! `keylo compare`: grid expansion, tables from real runs, failed runs as rows, resume, and
+//! bad grid keys.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{keylo, small_sim, stderr, stdout};
+
+fn config(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../configs")
+        .join(rel)
+        .display()
+        .to_string()
+}
+
+fn read_json(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+/// Splits one CSV line (quoted fields may hold commas and doubled quotes).
+fn csv_fields(line: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                chars.next();
+                out.last_mut().unwrap().push('"');
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => out.push(String::new()),
+            _ => out.last_mut().unwrap().push(c),
+        }
+    }
+    out
+}
+
+#[test]
+fn grid_expands_to_every_combination_and_skips_axes_a_config_lacks() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 2);
+    let (raw, akaze) = (
+        config("paper/raw-kiss-icp.toml"),
+        config("paper/indoor-akaze-kiss-icp.toml"),
+    );
+    let o = keylo(
+        &[
+            "compare",
+            &raw,
+            &akaze,
+            "--data",
+            data.to_str().unwrap(),
+            "--grid",
+            "k_sig=4,5,7",
+            "--grid",
+            "downsampler.windows.range=4,7",
+            "--dry-run",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let lines: Vec<String> = stdout(&o).lines().map(str::to_string).collect();
+    // The raw-cloud config has no window sizes: it runs once; the keypoint one 3 × 2 times.
+    assert_eq!(lines.len(), 7, "{lines:?}");
+    assert_eq!(lines[0].trim(), "seq/raw-kiss-icp");
+    for (i, (s, r)) in [(4, 4), (4, 7), (5, 4), (5, 7), (7, 4), (7, 7)]
+        .iter()
+        .enumerate()
+    {
+        let want = format!(
+            "seq/indoor-akaze-kiss-icp_{s}_{r}\tdownsampler.windows={{ \"range\" = {r}, \"signal\" = {s} }}"
+        );
+        assert_eq!(lines[i + 1], want);
+    }
+    assert!(
+        stderr(&o).contains("runs once without it"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn bad_grid_keys_are_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 2);
+    let d = data.to_str().unwrap();
+    let o = keylo(
+        &[
+            "compare",
+            "--data",
+            d,
+            "--grid",
+            "registrar.voxel_sise=0.5,1",
+        ],
+        tmp.path(),
+    );
+    common::expect_failure(&o, 2, "--grid registrar.voxel_sise");
+    assert!(
+        stderr(&o).contains("unknown field `voxel_sise`"),
+        "{}",
+        stderr(&o)
+    );
+    let o = keylo(
+        &[
+            "compare",
+            "--data",
+            d,
+            "--grid",
+            "registrar.kind=no-such-icp",
+        ],
+        tmp.path(),
+    );
+    common::expect_failure(&o, 2, "--grid registrar.kind");
+    let o = keylo(&["compare", "--data", d, "--grid", "k_sig"], tmp.path());
+    common::expect_failure(&o, 2, "--grid k_sig: expected KEY=V1,V2");
+}
+
+#[test]
+fn compare_fills_every_column_csv_and_json_agree_and_resume_skips() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 12);
+    let out = tmp.path().join("cmp");
+    let args = [
+        "compare".to_string(),
+        config("paper/raw-kiss-icp.toml"),
+        config("examples/corridor-voxel-kiss-icp.toml"),
+        "--data".into(),
+        data.display().to_string(),
+        "--out".into(),
+        out.display().to_string(),
+        "--jobs".into(),
+        "2".into(),
+    ];
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = keylo(&args, tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json = read_json(&out.join("compare.json"));
+    let runs = json["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 2);
+    let csv = std::fs::read_to_string(out.join("compare.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header = csv_fields(lines.next().unwrap());
+    let rows: Vec<Vec<String>> = lines.map(csv_fields).collect();
+    assert_eq!(rows.len(), 2);
+    for (row, run) in rows.iter().zip(runs) {
+        assert_eq!(run["verdict"], "ok", "{run}");
+        assert_eq!(row.len(), header.len());
+        for (name, value) in header.iter().zip(row) {
+            assert!(!value.is_empty(), "column {name} is empty: {row:?}");
+            match &run[name.as_str()] {
+                serde_json::Value::Number(n) => {
+                    let (a, b) = (n.as_f64().unwrap(), value.parse::<f64>().unwrap());
+                    assert!(
+                        (a - b).abs() <= 1e-9 * a.abs().max(1.0),
+                        "{name}: {a} vs {b}"
+                    );
+                }
+                serde_json::Value::String(s) => assert_eq!(s, value, "{name}"),
+                serde_json::Value::Bool(b) => assert_eq!(b.to_string(), *value, "{name}"),
+                other => panic!("{name}: unexpected JSON value {other}"),
+            }
+        }
+        assert!(
+            run["frames"] == 12 && run["peak_rss_mb"].as_f64().unwrap() > 0.0,
+            "{run}"
+        );
+        assert!(run["odometry_hz"].as_f64().unwrap() > 0.0, "{run}");
+    }
+    // Raw cloud vs voxel grid: the voxel grid hands fewer points to the registrar.
+    assert!(runs[1]["mean_points"].as_f64() < runs[0]["mean_points"].as_f64());
+    assert_eq!(runs[0]["rate_vs_raw"].as_f64(), Some(1.0));
+    let md = std::fs::read_to_string(out.join("compare.md")).unwrap();
+    assert!(
+        md.contains("Divergence criterion") && md.contains("| Avg Pts |"),
+        "{md}"
+    );
+    for f in ["trajectories", "ape", "points", "rate", "rss"] {
+        for ext in ["png", "svg"] {
+            let p = out.join("plots/seq").join(format!("{f}.{ext}"));
+            assert!(
+                std::fs::metadata(&p)
+                    .map(|m| m.len() > 1000)
+                    .unwrap_or(false),
+                "{p:?}"
+            );
+        }
+    }
+
+    // Resume: both runs are found finished and not run again.
+    let summary: PathBuf = out.join("runs/seq/raw-kiss-icp/summary.json");
+    let before = std::fs::metadata(&summary).unwrap().modified().unwrap();
+    let o = keylo(&args, tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o).matches("skipped: summary.json").count(),
+        2,
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        std::fs::metadata(&summary).unwrap().modified().unwrap(),
+        before
+    );
+    let again = read_json(&out.join("compare.json"));
+    assert!(again["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|r| r["resumed"] == true));
+    assert_eq!(again["runs"][0]["trans_rmse_m"], runs[0]["trans_rmse_m"]);
+
+    // Other settings in the same folders: the finished runs are not reused.
+    let mut changed = args.clone();
+    changed.extend(["--set", "registrar.max_range=20"]);
+    let o = keylo(&changed, tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o).matches("finished run of other settings").count(),
+        2,
+        "{}",
+        stderr(&o)
+    );
+    let third = read_json(&out.join("compare.json"));
+    assert!(third["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|r| r["resumed"] == false));
+}
+
+#[test]
+fn a_failing_run_is_a_row_and_the_others_go_on() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 6);
+    let out = tmp.path().join("cmp");
+    let o = keylo(
+        &[
+            "compare",
+            &config("paper/indoor-akaze-kiss-icp.toml"),
+            "--data",
+            data.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--set",
+            "downsampler.on_too_few=all-points",
+            "--grid",
+            "downsampler.min_points=1,100000000",
+            "--grid",
+            "downsampler.on_too_few=all-points,error",
+            "--no-plots",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json = read_json(&out.join("compare.json"));
+    let runs = json["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 4, "{json}");
+    // Only "fewer than 10⁸ points is an error" stops; it stops on its first frame.
+    let failed: Vec<_> = runs.iter().filter(|r| r["verdict"] == "failed").collect();
+    assert_eq!(failed.len(), 1, "{json}");
+    let f = failed[0];
+    assert!(
+        f["variant"]
+            .as_str()
+            .unwrap()
+            .contains("min_points=100000000"),
+        "{f}"
+    );
+    assert!(
+        f["variant"].as_str().unwrap().contains("on_too_few=error"),
+        "{f}"
+    );
+    assert!(
+        f["reason"].as_str().unwrap().contains("too few points"),
+        "{f}"
+    );
+    assert!(runs
+        .iter()
+        .filter(|r| r["verdict"] == "ok")
+        .all(|r| r["frames"] == 6));
+    let md = std::fs::read_to_string(out.join("compare.md")).unwrap();
+    assert!(md.contains("N/A (failed)"), "{md}");
+    assert!(
+        stderr(&o).contains("failed (exit status 3)"),
+        "{}",
+        stderr(&o)
+    );
+}
