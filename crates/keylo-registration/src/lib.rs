@@ -9,6 +9,7 @@
 
 pub mod downsample;
 mod error;
+mod frame_step;
 pub mod kiss_icp;
 pub mod ndt;
 pub mod se3;

@@ -6,6 +6,7 @@ pub mod icp;
 pub mod threshold;
 pub mod voxel_map;
 
+use crate::frame_step;
 use keylo_core::{CoreError, PointCloud, Registrar, Registration};
 use nalgebra::{Isometry3, Point3};
 use serde::{Deserialize, Serialize};
@@ -308,28 +309,11 @@ impl KissIcp {
 
 impl Registrar for KissIcp {
     fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
-        if let Some(i) = cloud.first_non_finite() {
-            return Err(RegistrationError::BadCloud(format!(
-                "point {i} has a non-finite coordinate or time"
-            ))
-            .into());
-        }
-        let outcome = match self.pool.take() {
-            Some(pool) => {
-                let r = pool.install(|| self.register_points(cloud));
-                self.pool = Some(pool);
-                r
-            }
-            None => self.register_points(cloud),
-        };
+        frame_step::reject_non_finite(cloud)?;
+        let outcome = frame_step::in_own_pool(self, |s| &mut s.pool, |s| s.register_points(cloud));
         let (result, source_points) = outcome?;
-        let end = cloud
-            .times
-            .as_ref()
-            .and_then(|t| t.iter().copied().reduce(f64::max))
-            .unwrap_or(0.0);
         Ok(Registration {
-            stamp: cloud.timestamp + end,
+            stamp: frame_step::end_stamp(cloud),
             pose: result.pose,
             source_points,
             iterations: result.iterations,
