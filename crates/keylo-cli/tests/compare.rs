@@ -293,3 +293,63 @@ fn a_failing_run_is_a_row_and_the_others_go_on() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_kitti_ground_truth_is_paired_one_for_one_with_the_estimate() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 8);
+    // The simulator's gt.tum as a KITTI file (3×4 matrices, no stamps).
+    let tum = std::fs::read_to_string(data.join("gt.tum")).unwrap();
+    let mut kitti = String::new();
+    for line in tum
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
+        let v: Vec<f64> = line
+            .split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            v[7], v[4], v[5], v[6],
+        ));
+        let r = q.to_rotation_matrix();
+        let m = r.matrix();
+        kitti += &format!(
+            "{} {} {} {} {} {} {} {} {} {} {} {}\n",
+            m[(0, 0)],
+            m[(0, 1)],
+            m[(0, 2)],
+            v[1],
+            m[(1, 0)],
+            m[(1, 1)],
+            m[(1, 2)],
+            v[2],
+            m[(2, 0)],
+            m[(2, 1)],
+            m[(2, 2)],
+            v[3]
+        );
+    }
+    let gt = tmp.path().join("gt_kitti.txt");
+    std::fs::write(&gt, kitti).unwrap();
+    let out = tmp.path().join("cmp");
+    let raw = config("paper/raw-kiss-icp.toml");
+    let args = [
+        "compare",
+        &raw,
+        "--data",
+        data.to_str().unwrap(),
+        "--gt",
+        gt.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--no-plots",
+    ];
+    let o = keylo(&args, tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json = read_json(&out.join("compare.json"));
+    let run = &json["runs"][0];
+    let t = run["trans_rmse_m"].as_f64().unwrap_or(f64::NAN);
+    assert!(t.is_finite() && t < 0.5, "{run}");
+}

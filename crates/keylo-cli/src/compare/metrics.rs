@@ -110,17 +110,21 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
         fill_from_summary(s, &mut row);
     }
     read_frames(&plan.dir.join("frames.csv"), &mut series);
-    let est = trajectories::read(&plan.dir.join("trajectory.tum"))
-        .ok()
-        .map(|l| l.trajectory);
-    let gt = plan
-        .gt
-        .as_ref()
-        .and_then(|p| trajectories::read(p).ok())
-        .map(|l| l.trajectory);
-    if let (Some(est), Some(gt)) = (&est, &gt) {
-        fill_ape(est, gt, crit.t_max_diff_s, &mut row, &mut series);
+    let mut est = trajectories::read(&plan.dir.join("trajectory.tum")).ok();
+    let mut gt = plan.gt.as_ref().and_then(|p| trajectories::read(p).ok());
+    if let (Some(e), Some(g)) = (est.as_mut(), gt.as_mut()) {
+        // A KITTI ground truth has no stamps: pair it one for one, as `keylo run` does.
+        if trajectories::reconcile(e, g).is_ok() {
+            fill_ape(
+                &e.trajectory,
+                &g.trajectory,
+                crit.t_max_diff_s,
+                &mut row,
+                &mut series,
+            );
+        }
     }
+    let est = est.map(|l| l.trajectory);
     let stopped = summary
         .as_ref()
         .and_then(|s| s.get("failed"))
