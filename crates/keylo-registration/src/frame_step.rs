@@ -1,10 +1,52 @@
 //! What every registrar does around its own alignment: refuse clouds with non-finite
-//! values, run the work in the registrar's own thread pool when it has one, and stamp the
-//! result with the time of the cloud's last point.
+//! values, run the work in the registrar's own thread pool when it has one, deskew and
+//! range-filter the scan, and stamp the result with the time of the cloud's last point.
 
 use keylo_core::{CoreError, PointCloud};
+use nalgebra::{Isometry3, Point3};
 
+use crate::kiss_icp::deskew;
 use crate::RegistrationError;
+
+/// The registrar's own pool of `max_num_threads` workers; `None` for 0 (the caller's pool).
+pub(crate) fn own_pool(
+    max_num_threads: usize,
+) -> Result<Option<rayon::ThreadPool>, RegistrationError> {
+    if max_num_threads == 0 {
+        return Ok(None);
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(max_num_threads)
+        .build()
+        .map(Some)
+        .map_err(|e| RegistrationError::BadParameter {
+            field: "max_num_threads",
+            value: max_num_threads.to_string(),
+            expected: format!("a thread count the system allows ({e})"),
+        })
+}
+
+/// The cloud's points, deskewed with `last_delta` when `deskew` is set and the cloud has
+/// per-point times, keeping those with `min < range < max` (upstream kiss-icp's
+/// `Preprocessor`).
+pub(crate) fn deskew_and_crop(
+    cloud: &PointCloud,
+    deskew: bool,
+    last_delta: &Isometry3<f64>,
+    (min, max): (f64, f64),
+) -> Vec<Point3<f64>> {
+    let mut points = cloud.points.clone();
+    if deskew {
+        if let Some(times) = &cloud.times {
+            deskew::deskew(&mut points, times, last_delta);
+        }
+    }
+    points.retain(|p| {
+        let r = p.coords.norm();
+        r > min && r < max
+    });
+    points
+}
 
 /// An error naming the first point with a non-finite coordinate or time.
 pub(crate) fn reject_non_finite(cloud: &PointCloud) -> Result<(), CoreError> {

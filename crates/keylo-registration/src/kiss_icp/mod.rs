@@ -170,19 +170,7 @@ impl KissIcp {
     pub fn new(config: KissIcpConfig) -> Result<Self, RegistrationError> {
         config.validate()?;
         let voxel_size = config.effective_voxel_size();
-        let pool = match config.max_num_threads {
-            0 => None,
-            n => Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .map_err(|e| RegistrationError::BadParameter {
-                        field: "max_num_threads",
-                        value: n.to_string(),
-                        expected: format!("a thread count the system allows ({e})"),
-                    })?,
-            ),
-        };
+        let pool = frame_step::own_pool(config.max_num_threads)?;
         Ok(Self {
             map: VoxelHashMap::new(voxel_size, config.max_range, config.max_points_per_voxel),
             threshold: AdaptiveThreshold::new(
@@ -214,18 +202,8 @@ impl KissIcp {
 
     /// Deskew and range filter, as upstream's `Preprocessor`.
     fn preprocess(&self, cloud: &PointCloud) -> Vec<Point3<f64>> {
-        let mut points = cloud.points.clone();
-        if self.config.deskew {
-            if let Some(times) = &cloud.times {
-                deskew::deskew(&mut points, times, &self.last_delta);
-            }
-        }
-        let (min, max) = (self.config.min_range, self.config.max_range);
-        points.retain(|p| {
-            let r = p.coords.norm();
-            r > min && r < max
-        });
-        points
+        let range = (self.config.min_range, self.config.max_range);
+        frame_step::deskew_and_crop(cloud, self.config.deskew, &self.last_delta, range)
     }
 
     fn sigma(&self) -> f64 {

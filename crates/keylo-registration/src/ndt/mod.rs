@@ -45,7 +45,6 @@ pub use config::NdtConfig;
 pub use neighbours::{NdtTarget, NeighbourSearch};
 pub use voxel_grid::GridSettings;
 
-use crate::kiss_icp::deskew;
 use crate::{voxel, RegistrationError};
 use odometry::{LocalMap, MapSettings};
 
@@ -62,19 +61,7 @@ impl Ndt {
     /// A registrar with an empty map at the identity pose.
     pub fn new(config: NdtConfig) -> Result<Self, RegistrationError> {
         config.validate()?;
-        let pool = match config.max_num_threads {
-            0 => None,
-            n => Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .map_err(|e| RegistrationError::BadParameter {
-                        field: "max_num_threads",
-                        value: n.to_string(),
-                        expected: format!("a thread count the system allows ({e})"),
-                    })?,
-            ),
-        };
+        let pool = frame_step::own_pool(config.max_num_threads)?;
         let settings = MapSettings {
             keyframe_distance: config.keyframe_distance,
             keyframe_angle: config.keyframe_angle.to_radians(),
@@ -97,18 +84,8 @@ impl Ndt {
 
     /// Deskew and range filter.
     fn preprocess(&self, cloud: &PointCloud) -> Vec<Point3<f64>> {
-        let mut points = cloud.points.clone();
-        if self.config.deskew {
-            if let Some(times) = &cloud.times {
-                deskew::deskew(&mut points, times, &self.last_delta);
-            }
-        }
-        let (min, max) = (self.config.min_range, self.config.max_range);
-        points.retain(|p| {
-            let r = p.coords.norm();
-            r > min && r < max
-        });
-        points
+        let range = (self.config.min_range, self.config.max_range);
+        frame_step::deskew_and_crop(cloud, self.config.deskew, &self.last_delta, range)
     }
 
     /// Rejects a non-finite pose or one that jumped beyond `max_motion_per_frame`.
