@@ -49,3 +49,20 @@ pub(crate) fn check(
         })
     }
 }
+
+/// Checks the `min_range`/`max_range` pair every registrar has: 0 < max ≤ 10 km,
+/// 0 ≤ min < max.
+pub(crate) fn check_range_limits(min_range: f64, max_range: f64) -> Result<(), RegistrationError> {
+    check(
+        max_range.is_finite() && max_range > 0.0 && max_range <= 1e4,
+        "max_range",
+        max_range,
+        "expected 0 < max_range <= 10000 m",
+    )?;
+    check(
+        min_range.is_finite() && min_range >= 0.0 && min_range < max_range,
+        "min_range",
+        min_range,
+        "expected 0 <= min_range < max_range",
+    )
+}

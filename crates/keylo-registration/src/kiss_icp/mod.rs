@@ -11,7 +11,7 @@ use keylo_core::{CoreError, PointCloud, Registrar, Registration};
 use nalgebra::{Isometry3, Point3};
 use serde::{Deserialize, Serialize};
 
-use crate::error::check;
+use crate::error::{check, check_range_limits};
 use crate::{voxel, RegistrationError};
 use icp::{IcpResult, IcpSettings};
 use threshold::AdaptiveThreshold;
@@ -81,18 +81,7 @@ impl KissIcpConfig {
         // Upper bounds keep every derived quantity (σ², kernel weights) finite.
         let in_range = |v: f64, max: f64| v.is_finite() && v > 0.0 && v <= max;
         let zero_or = |v: f64, max: f64| v == 0.0 || in_range(v, max);
-        check(
-            in_range(self.max_range, 1e4),
-            "max_range",
-            self.max_range,
-            "expected 0 < max_range <= 10000 m",
-        )?;
-        check(
-            self.min_range.is_finite() && self.min_range >= 0.0 && self.min_range < self.max_range,
-            "min_range",
-            self.min_range,
-            "expected 0 <= min_range < max_range",
-        )?;
+        check_range_limits(self.min_range, self.max_range)?;
         check(
             zero_or(self.voxel_size, 1e3),
             "voxel_size",

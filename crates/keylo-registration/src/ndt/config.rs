@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::align::AlignSettings;
 use super::neighbours::NeighbourSearch;
 use super::voxel_grid::GridSettings;
-use crate::error::check;
+use crate::error::{check, check_range_limits};
 use crate::RegistrationError;
 
 /// `[registrar] kind = "ndt"`: PCL's `NormalDistributionsTransform` (defaults of PCL 1.13
@@ -171,18 +171,7 @@ impl NdtConfig {
             self.min_eigenvalue_ratio,
             "expected 0 < min_eigenvalue_ratio <= 1",
         )?;
-        check(
-            pos(self.max_range, 1e4),
-            "max_range",
-            self.max_range,
-            "expected 0 < max_range <= 10000 m",
-        )?;
-        check(
-            self.min_range.is_finite() && self.min_range >= 0.0 && self.min_range < self.max_range,
-            "min_range",
-            self.min_range,
-            "expected 0 <= min_range < max_range",
-        )?;
+        check_range_limits(self.min_range, self.max_range)?;
         check(
             zero_or(self.source_voxel_size, 1e3),
             "source_voxel_size",
