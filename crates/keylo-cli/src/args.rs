@@ -98,6 +98,10 @@ pub struct CompareArgs {
     /// Largest stamp difference (s) when pairing poses with ground truth (evo `--t_max_diff`).
     #[arg(long, default_value_t = 0.01)]
     pub t_max_diff: f64,
+    /// Stop a run that takes longer than this (seconds): SIGTERM, then SIGKILL after a 10 s
+    /// grace. Its frames so far are kept and its row says it timed out.
+    #[arg(long, value_name = "SECONDS")]
+    pub timeout: Option<f64>,
     /// Run again even where a finished summary.json is found.
     #[arg(long)]
     pub rerun: bool,

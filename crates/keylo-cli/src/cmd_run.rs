@@ -115,7 +115,7 @@ struct RunState {
     per_frame: Vec<report::FrameRow>,
 }
 
-/// Set by Ctrl-C: the run stops after the current frame and writes what it has.
+/// Set by Ctrl-C or SIGTERM: the run stops after the current frame and writes what it has.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 fn process_all(
@@ -133,7 +133,7 @@ fn process_all(
         if INTERRUPTED.load(Ordering::SeqCst) {
             st.failure = Some(Failure {
                 frame: next,
-                error: "interrupted (Ctrl-C)".into(),
+                error: "interrupted (Ctrl-C or SIGTERM)".into(),
             });
             st.interrupted = true;
             break;

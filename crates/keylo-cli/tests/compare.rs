@@ -353,3 +353,57 @@ fn a_kitti_ground_truth_is_paired_one_for_one_with_the_estimate() {
     let t = run["trans_rmse_m"].as_f64().unwrap_or(f64::NAN);
     assert!(t.is_finite() && t < 0.5, "{run}");
 }
+
+#[test]
+fn a_run_past_the_timeout_is_stopped_its_frames_kept_and_rerun_on_resume() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 40);
+    let out = tmp.path().join("cmp");
+    let out_s = out.to_str().unwrap().to_string();
+    let cfg = config("paper/raw-kiss-icp.toml");
+    // max_frames=1 ends well within the limit; 40 frames with a 2 cm voxel map take about 7 s
+    // (release build).
+    let args = [
+        "compare",
+        &cfg,
+        "--data",
+        data.to_str().unwrap(),
+        "--out",
+        &out_s,
+        "--set",
+        "registrar.voxel_size=0.02",
+        "--grid",
+        "source.max_frames=1,40",
+        "--timeout",
+        "2",
+        "--no-plots",
+    ];
+    let o = keylo(&args, tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json = read_json(&out.join("compare.json"));
+    let runs = json["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 2, "{json}");
+    let quick = &runs[0];
+    assert_eq!(quick["verdict"], "ok", "{quick}");
+    assert_eq!(quick["frames"], 1, "{quick}");
+    let slow = &runs[1];
+    assert_eq!(slow["verdict"], "failed", "{slow}");
+    let reason = slow["reason"].as_str().unwrap();
+    assert!(reason.starts_with("timed out after"), "{reason}");
+    // SIGTERM lets the run write what it has: its summary and trajectory are there.
+    assert!(reason.contains("stopped;"), "{reason}");
+    let frames = slow["frames"].as_u64().unwrap();
+    assert!(frames < 40, "{slow}");
+    let slow_dir = out.join("runs/seq/source.max_frames=40");
+    let tum = std::fs::read_to_string(slow_dir.join("trajectory.tum")).unwrap();
+    assert_eq!(tum.lines().count() as u64, frames, "{tum}");
+    assert!(stderr(&o).contains("timed out after"), "{}", stderr(&o));
+    // Resume: the finished run is skipped, the timed-out one is run again.
+    let again = keylo(&args, tmp.path());
+    assert!(again.status.success(), "{}", stderr(&again));
+    let json = read_json(&out.join("compare.json"));
+    let runs = json["runs"].as_array().unwrap();
+    assert_eq!(runs[0]["resumed"], true, "{json}");
+    assert_eq!(runs[1]["resumed"], false, "{json}");
+}

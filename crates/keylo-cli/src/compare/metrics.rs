@@ -136,7 +136,20 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
                 f["error"].as_str().unwrap_or("?")
             )
         });
-    let (verdict, reason) = if let Some(why) = stopped {
+    let (verdict, reason) = if outcome.timed_out {
+        let done = row.frames.map_or("no".into(), |n| n.to_string());
+        let how = match outcome.exit_code {
+            Some(_) => "stopped",
+            None => "killed",
+        };
+        (
+            "failed",
+            format!(
+                "timed out after {:.1} s ({how}; {done} frames done and kept)",
+                outcome.seconds
+            ),
+        )
+    } else if let Some(why) = stopped {
         ("failed", why)
     } else if summary.is_none() {
         let why = outcome

@@ -8,6 +8,7 @@
 //! * [`tables`]: Markdown, CSV, JSON.
 //! * [`plots`]: PNG + SVG figures.
 
+mod child;
 mod error;
 mod grid;
 mod metrics;
@@ -29,6 +30,11 @@ use schedule::Planned;
 pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
     if args.gt.is_some() && args.data.len() > 1 {
         bail!("--gt names one ground truth, but {} --data were given: put a gt.tum beside each data instead", args.data.len());
+    }
+    if let Some(t) = args.timeout {
+        if !(t.is_finite() && t > 0.0) {
+            bail!("--timeout {t}: expected a positive number of seconds");
+        }
     }
     if args.jobs == 0 {
         bail!("--jobs 0: expected at least 1");
@@ -56,7 +62,16 @@ pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
             args.out.display()
         );
     }
-    let outcomes = schedule::run_all(&plans, args.jobs, threads, args.rerun, quiet)?;
+    let outcomes = schedule::run_all(
+        &plans,
+        &schedule::Options {
+            jobs: args.jobs,
+            threads,
+            rerun: args.rerun,
+            timeout: args.timeout.map(std::time::Duration::from_secs_f64),
+            quiet,
+        },
+    )?;
     let crit = Criterion {
         max_ape_m: args.diverge_ape,
         max_step_m: args.diverge_step,

@@ -5,8 +5,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
+use super::child;
 use super::error::CompareError;
 
 /// One run to do: what `keylo run` gets and where it writes.
@@ -31,6 +32,8 @@ pub struct Planned {
 pub struct Outcome {
     /// The run was not started: its folder already had a finished summary.json.
     pub resumed: bool,
+    /// The run reached `--timeout` and was stopped.
+    pub timed_out: bool,
     /// Exit status of `keylo run` (`None`: killed by a signal, or resumed).
     pub exit_code: Option<i32>,
     /// Seconds the child ran.
@@ -61,22 +64,37 @@ fn same_plan(plan: &Planned) -> bool {
     }
 }
 
-/// True when `dir/summary.json` is a finished summary (written last by `keylo run`).
+/// True when `dir/summary.json` is a finished summary (written last by `keylo run`) of a run
+/// that was not interrupted (a run stopped by `--timeout` or Ctrl-C is run again on resume).
 pub fn is_done(dir: &Path) -> bool {
     std::fs::read_to_string(dir.join("summary.json"))
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .is_some_and(|v| v.get("frames").is_some())
+        .is_some_and(|v| {
+            let interrupted = v["failed"]["error"]
+                .as_str()
+                .is_some_and(|e| e.starts_with("interrupted"));
+            v.get("frames").is_some() && !interrupted
+        })
+}
+
+/// How the runs are done.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Runs at a time.
+    pub jobs: usize,
+    /// `--threads` for each run.
+    pub threads: Option<usize>,
+    /// Run again even where a finished summary is found.
+    pub rerun: bool,
+    /// Stop a run that takes longer than this.
+    pub timeout: Option<Duration>,
+    /// No progress lines.
+    pub quiet: bool,
 }
 
 /// Runs every plan (`jobs` at a time) and returns their outcomes in plan order.
-pub fn run_all(
-    plans: &[Planned],
-    jobs: usize,
-    threads: Option<usize>,
-    rerun: bool,
-    quiet: bool,
-) -> Result<Vec<Outcome>, CompareError> {
+pub fn run_all(plans: &[Planned], opts: &Options) -> Result<Vec<Outcome>, CompareError> {
     let exe = std::env::current_exe().map_err(|e| CompareError::Spawn {
         run: "every run".into(),
         source: e,
@@ -86,13 +104,13 @@ pub fn run_all(
     let results: Mutex<Vec<Option<Result<Outcome, CompareError>>>> =
         Mutex::new(plans.iter().map(|_| None).collect());
     std::thread::scope(|s| {
-        for _ in 0..jobs.clamp(1, plans.len().max(1)) {
+        for _ in 0..opts.jobs.clamp(1, plans.len().max(1)) {
             s.spawn(|| loop {
                 let i = next.fetch_add(1, Ordering::SeqCst);
                 let Some(plan) = plans.get(i) else { break };
-                let r = run_one(&exe, plan, threads, rerun);
+                let r = run_one(&exe, plan, opts);
                 let n = done.fetch_add(1, Ordering::SeqCst) + 1;
-                if !quiet {
+                if !opts.quiet {
                     eprintln!("[{n}/{}] {}: {}", plans.len(), plan.id, describe(&r));
                 }
                 if let Ok(mut v) = results.lock() {
@@ -114,6 +132,11 @@ fn describe(r: &Result<Outcome, CompareError>) -> String {
         Ok(o) if o.resumed => "skipped: summary.json of an earlier run is there \
                                (resumed; --rerun runs it again)"
             .into(),
+        Ok(o) if o.timed_out => format!(
+            "timed out after {:.1} s: stopped ({})",
+            o.seconds,
+            o.error.as_deref().unwrap_or("no message")
+        ),
         Ok(o) => match (o.exit_code, &o.error) {
             (Some(0), _) => format!("done in {:.1} s", o.seconds),
             (code, err) => format!(
@@ -126,12 +149,8 @@ fn describe(r: &Result<Outcome, CompareError>) -> String {
     }
 }
 
-fn run_one(
-    exe: &Path,
-    plan: &Planned,
-    threads: Option<usize>,
-    rerun: bool,
-) -> Result<Outcome, CompareError> {
+fn run_one(exe: &Path, plan: &Planned, opts: &Options) -> Result<Outcome, CompareError> {
+    let (threads, rerun) = (opts.threads, opts.rerun);
     let done = is_done(&plan.dir);
     if !rerun && done && same_plan(plan) {
         return Ok(Outcome {
@@ -177,15 +196,19 @@ fn run_one(
         .stdout(log("stdout.log")?)
         .stderr(log("stderr.log")?);
     let start = Instant::now();
-    let status = cmd.status().map_err(|e| CompareError::Spawn {
+    let spawn_error = |e| CompareError::Spawn {
         run: plan.id.clone(),
         source: e,
-    })?;
+    };
+    let mut child = cmd.spawn().map_err(spawn_error)?;
+    let ended = child::wait(&mut child, opts.timeout).map_err(spawn_error)?;
     let seconds = start.elapsed().as_secs_f64();
-    let error = (!status.success()).then(|| last_line(&plan.dir.join("stderr.log")));
+    let error = (ended.timed_out || !ended.status.success())
+        .then(|| last_line(&plan.dir.join("stderr.log")));
     Ok(Outcome {
         resumed: false,
-        exit_code: status.code(),
+        timed_out: ended.timed_out,
+        exit_code: ended.status.code(),
         seconds,
         error,
     })
