@@ -36,6 +36,10 @@ pub enum Command {
     /// Inspect configs and the registered backends.
     #[command(subcommand)]
     Config(ConfigCommand),
+    /// Evaluate keypoint detectors and descriptors on LiDAR images (the paper's six metrics),
+    /// and sweep image size × interpolation.
+    #[command(subcommand)]
+    Keypoints(crate::keypoints::KeypointsCommand),
 }
 
 #[derive(Debug, Args)]

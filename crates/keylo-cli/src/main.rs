@@ -9,6 +9,8 @@ mod cmd_run;
 mod cmd_sim;
 mod compare;
 mod configs;
+mod keypoints;
+mod plot_out;
 mod report;
 mod resources;
 mod trajectories;
@@ -54,6 +56,7 @@ fn main() -> ExitCode {
         Command::Convert(a) => cmd_convert::run(a, cli.quiet),
         Command::Config(a) => cmd_config::run(a),
         Command::Compare(a) => compare::run(a, cli.threads, cli.quiet),
+        Command::Keypoints(a) => keypoints::run(a, cli.threads, cli.quiet),
     };
     match outcome {
         Ok(code) => code,

@@ -1,12 +1,8 @@
 //! Plots of a comparison (plotters; PNG through the bitmap backend and the `png` crate, and
 //! SVG): trajectories from above against ground truth, APE over time, points per frame,
 //! odometry rate per frame and resident memory per frame, one set per data.
-//!
-//! PNG text is drawn with the DejaVu Sans font compiled into the binary
-//! (`assets/fonts/`), so no system font is needed at run time.
 
 use std::path::{Path, PathBuf};
-use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -31,28 +27,6 @@ pub struct Figure {
 }
 
 const SIZE: (u32, u32) = (960, 640);
-/// Distinct colours for the runs (the "tab10" palette); black is the ground truth.
-const COLOURS: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
-static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-static REGISTER: Once = Once::new();
-
-fn register_font() {
-    REGISTER.call_once(|| {
-        // The font is compiled in and known to parse; a failure would only lose PNG text.
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
-    });
-}
 
 /// Writes `<dir>/<stem>.png` and `.svg`; returns their paths. A figure without points is
 /// skipped (empty list).
@@ -60,35 +34,8 @@ pub fn write(dir: &Path, fig: &Figure) -> Result<Vec<PathBuf>, CompareError> {
     if fig.series.iter().all(|s| s.points.is_empty()) {
         return Ok(Vec::new());
     }
-    register_font();
-    let svg = dir.join(format!("{}.svg", fig.file_stem));
-    let png = dir.join(format!("{}.png", fig.file_stem));
-    let plot_err = |path: &Path, e: String| CompareError::Plot {
-        path: path.to_path_buf(),
-        message: e,
-    };
-    {
-        let root = SVGBackend::new(&svg, SIZE).into_drawing_area();
-        draw(&root, fig).map_err(|e| plot_err(&svg, e))?;
-        root.present().map_err(|e| plot_err(&svg, e.to_string()))?;
-    }
-    let mut buf = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area();
-        draw(&root, fig).map_err(|e| plot_err(&png, e))?;
-        root.present().map_err(|e| plot_err(&png, e.to_string()))?;
-    }
-    encode_png(&png, &buf).map_err(|e| plot_err(&png, e))?;
-    Ok(vec![png, svg])
-}
-
-fn encode_png(path: &Path, rgb: &[u8]) -> Result<(), String> {
-    let file = std::fs::File::create(path).map_err(|e| e.to_string())?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), SIZE.0, SIZE.1);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    let mut w = enc.write_header().map_err(|e| e.to_string())?;
-    w.write_image_data(rgb).map_err(|e| e.to_string())
+    crate::plot_out::write(dir, &fig.file_stem, SIZE, fig)
+        .map_err(|(path, message)| CompareError::Plot { path, message })
 }
 
 fn bounds(fig: &Figure) -> ((f64, f64), (f64, f64)) {
@@ -105,6 +52,15 @@ fn bounds(fig: &Figure) -> ((f64, f64), (f64, f64)) {
         (a - p, b + p)
     };
     (pad(x0, x1), pad(y0, y1))
+}
+
+impl crate::plot_out::Draw for Figure {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        draw(root, self)
+    }
 }
 
 fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &Figure) -> Result<(), String>
@@ -135,7 +91,7 @@ where
             BLACK.stroke_width(3)
         } else {
             colour += 1;
-            COLOURS[(colour - 1) % COLOURS.len()].stroke_width(2)
+            crate::plot_out::COLOURS[(colour - 1) % crate::plot_out::COLOURS.len()].stroke_width(2)
         };
         let pts = line
             .points

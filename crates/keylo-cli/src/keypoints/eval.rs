@@ -1,0 +1,180 @@
+//! `keylo keypoints eval`: per-image results, per-combination summaries (CSV, JSON,
+//! Markdown) and a box plot per metric.
+
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use keylo::kpeval::sweep::parse_interpolation;
+use keylo::kpeval::{evaluate, parse_combos, summarise, ComboSet, EvalOptions, METRICS};
+use keylo::BuildContext;
+
+use super::plots::{BoxPlot, BoxRow};
+use super::report::{self, PaperFigures};
+use super::{input, plots, EvalArgs};
+use crate::EXIT_FRAME_FAILED;
+
+/// Jobs: `--jobs`, else `--threads`, else one per core.
+pub fn jobs(asked: Option<usize>, threads: Option<usize>) -> Result<usize> {
+    let n = asked.or(threads).unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    });
+    if n == 0 {
+        anyhow::bail!("--jobs 0: expected at least 1");
+    }
+    Ok(n)
+}
+
+/// A progress bar with an ETA (hidden when quiet).
+pub fn progress(quiet: bool, what: &str) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(0);
+    let style = ProgressStyle::with_template(&format!(
+        "{what} [{{bar:30}}] {{pos}}/{{len}} {{msg}} elapsed {{elapsed}} ETA {{eta}}"
+    ))
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style);
+    bar
+}
+
+/// One line per distinct reason: "Skipped A, B: reason".
+pub fn skip_notes(skipped: &[(String, String)]) -> Vec<String> {
+    let mut by_reason: Vec<(&str, Vec<&str>)> = Vec::new();
+    for (combo, why) in skipped {
+        match by_reason.iter_mut().find(|(w, _)| *w == why) {
+            Some((_, v)) => v.push(combo),
+            None => by_reason.push((why, vec![combo])),
+        }
+    }
+    by_reason
+        .into_iter()
+        .map(|(why, combos)| format!("Skipped {}: {why}", combos.join(", ")))
+        .collect()
+}
+
+pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
+    let mut spec = input::spec(&args.input)?;
+    if let Some(w) = args.width {
+        spec.image.width = w;
+    }
+    if let Some(h) = args.height {
+        spec.image.height = h;
+    }
+    if let Some(i) = &args.interpolation {
+        spec.image.interpolation = parse_interpolation(i)?;
+    }
+    let paper = args.paper.as_deref().map(PaperFigures::read).transpose()?;
+    let registry = keylo::registry();
+    let set = ComboSet::parse(&args.input.combos);
+    let combos = parse_combos(&set, &registry).context("--combos")?;
+    let planes = input::planes(&args.input, &spec)?;
+    let jobs = jobs(args.input.jobs, threads)?;
+    let out = &args.input.out;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let bar = progress(quiet, "evaluating");
+    let tick = |done: usize, total: usize| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    };
+    let ctx = BuildContext {
+        base_dir: args
+            .input
+            .config
+            .as_ref()
+            .and_then(|p| p.parent().map(std::path::Path::to_path_buf))
+            .unwrap_or_default(),
+    };
+    let result = evaluate(
+        &planes,
+        &combos,
+        &spec,
+        &registry,
+        &ctx,
+        &EvalOptions {
+            jobs,
+            skip_unavailable: set.skips_unavailable(),
+            progress: Some(&tick),
+        },
+    )?;
+    bar.finish_and_clear();
+    let summaries = summarise(&result.rows);
+    let mut notes = vec![format!(
+        "{} images ({}×{}, {}), {} combinations, {} jobs, {:.1} s.",
+        planes.len(),
+        result.rows.first().map_or(0, |r| r.width),
+        result.rows.first().map_or(0, |r| r.height),
+        keylo::kpeval::sweep::interpolation_name(spec.image.interpolation),
+        summaries.len(),
+        jobs,
+        result.seconds
+    )];
+    notes.extend(skip_notes(&result.skipped));
+    notes.extend(
+        result
+            .failed
+            .iter()
+            .map(|(c, why)| format!("FAILED {c}: {why}")),
+    );
+    let write = |name: &str, text: &str| {
+        let p = out.join(name);
+        std::fs::write(&p, text).with_context(|| format!("writing {}", p.display()))
+    };
+    write("per_image.csv", &report::per_image_csv(&result.rows))?;
+    write(
+        "summary.csv",
+        &report::summary_csv(&summaries, paper.as_ref()),
+    )?;
+    let md = report::markdown(&summaries, paper.as_ref(), &notes);
+    write("summary.md", &md)?;
+    let json = serde_json::json!({
+        "settings": spec,
+        "images": planes.iter().map(|p| &p.label).collect::<Vec<_>>(),
+        "jobs": jobs,
+        "seconds": result.seconds,
+        "combos": summaries,
+        "skipped": result.skipped,
+        "failed": result.failed,
+    });
+    write("summary.json", &serde_json::to_string_pretty(&json)?)?;
+    if !args.input.no_plots {
+        for m in METRICS {
+            let rows: Vec<BoxRow> = summaries
+                .iter()
+                .filter_map(|s| {
+                    s.get(m.key).map(|q| BoxRow {
+                        name: s.combo.clone(),
+                        min: q.min,
+                        q1: q.q1,
+                        median: q.median,
+                        q3: q.q3,
+                        max: q.max,
+                    })
+                })
+                .collect();
+            if rows.is_empty() {
+                continue;
+            }
+            let height = (120 + 26 * rows.len()).clamp(300, 2000) as u32;
+            let fig = BoxPlot {
+                title: format!("{} ({} images)", m.label, planes.len()),
+                x_label: m.label.to_string(),
+                rows,
+            };
+            plots::write(&out.join("plots"), m.key, (960, height), &fig)?;
+        }
+    }
+    if !quiet {
+        print!("{md}");
+        println!("\nresults in {}", out.display());
+    }
+    if !result.failed.is_empty() {
+        eprintln!(
+            "error: {} combination group(s) failed; their results up to the failure are kept",
+            result.failed.len()
+        );
+        return Ok(ExitCode::from(EXIT_FRAME_FAILED));
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,109 @@
+//! The images of `--data`: a folder of PNG files, or the chosen channel of any source's frames.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use keylo::kpeval::{EvalSpec, Plane};
+
+use super::InputArgs;
+use crate::args::DataArgs;
+use crate::configs;
+
+/// The evaluation spec: `--config` (or the defaults) with `--channel` on top.
+pub fn spec(args: &InputArgs) -> Result<EvalSpec> {
+    let mut spec = match &args.config {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("--config {}: cannot read", p.display()))?;
+            EvalSpec::from_toml(&text, &p.display().to_string())?
+        }
+        None => EvalSpec::default(),
+    };
+    if let Some(c) = &args.channel {
+        spec.image.channel = c.clone();
+        spec.validate("--channel")?;
+    }
+    Ok(spec)
+}
+
+/// The PNG files of `dir` in natural name order (none: not a PNG folder).
+fn png_files(dir: &Path) -> Vec<PathBuf> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")))
+        .collect();
+    files
+        .sort_by(|a, b| keylo::io::folder::natural_cmp(&a.to_string_lossy(), &b.to_string_lossy()));
+    files
+}
+
+/// Indices `start, start + stride, …`, at most `frames` of them, below `n` when known.
+fn wanted(i: usize, args: &InputArgs) -> Option<bool> {
+    if i < args.start {
+        return Some(false);
+    }
+    let k = i - args.start;
+    if k / args.stride >= args.frames {
+        return None;
+    }
+    Some(k % args.stride == 0)
+}
+
+/// Reads the images to evaluate.
+pub fn planes(args: &InputArgs, spec: &EvalSpec) -> Result<Vec<Plane>> {
+    if args.stride == 0 {
+        bail!("--stride 0: expected at least 1");
+    }
+    if args.frames < 2 {
+        bail!(
+            "--frames {}: the match metrics need at least 2 consecutive images",
+            args.frames
+        );
+    }
+    if !args.data.exists() {
+        bail!("--data {}: no such file or directory", args.data.display());
+    }
+    let pngs = if args.data.is_dir() {
+        png_files(&args.data)
+    } else {
+        Vec::new()
+    };
+    let mut out = Vec::new();
+    if !pngs.is_empty() {
+        for (i, p) in pngs.iter().enumerate() {
+            match wanted(i, args) {
+                None => break,
+                Some(false) => continue,
+                Some(true) => out.push(Plane::from_png(p, &spec.image.normalise)?),
+            }
+        }
+        return Ok(out);
+    }
+    let channel = spec.image.channel()?;
+    let data = DataArgs {
+        data: args.data.clone(),
+        meta: args.meta.clone(),
+        sets: Vec::new(),
+    };
+    let registry = keylo::registry();
+    let (_, mut source) = configs::open_data(&registry, &data)?;
+    let mut i = 0usize;
+    while let Some(frame) = source.next_frame() {
+        let frame = frame.with_context(|| format!("--data {}: frame {i}", args.data.display()))?;
+        match wanted(i, args) {
+            None => break,
+            Some(false) => {}
+            Some(true) => out.push(Plane::from_frame(
+                &frame,
+                channel,
+                &spec.image.normalise,
+                format!("frame {i}"),
+            )),
+        }
+        i += 1;
+    }
+    Ok(out)
+}

@@ -1,0 +1,106 @@
+//! `keylo keypoints eval` and `keylo keypoints sweep`: the paper's keypoint study as commands
+//! (metrics and the sweep are in `keylo-kpeval`; this module reads the input, shows progress,
+//! and writes tables and plots).
+
+mod eval;
+mod input;
+mod plots;
+mod report;
+mod sweep;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::{Args, Subcommand};
+
+#[derive(Debug, Subcommand)]
+pub enum KeypointsCommand {
+    /// The six metrics of every detector/descriptor combination over consecutive frames.
+    Eval(EvalArgs),
+    /// The paper's Algorithm 1: the metrics for every interpolation × width × height.
+    Sweep(SweepArgs),
+}
+
+/// What both commands read and how.
+#[derive(Debug, Args)]
+pub struct InputArgs {
+    /// Data: any path `keylo run --data` reads (pcap, bag, mcap, KITTI/PLY/PCD folder, keylo
+    /// frame folder), or a folder of PNG images (8- or 16-bit, taken in natural name order).
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Sensor metadata (an Ouster capture's JSON when it is not X.json beside X.pcap).
+    #[arg(long)]
+    pub meta: Option<PathBuf>,
+    /// Combinations: `paper` (the paper's 32), `all` (every valid pair, plugins included), or
+    /// a list such as AKAZE_AKAZE,ORB_ORB,FAST_BRIEF,SUPERPOINT.
+    #[arg(long, default_value = "paper")]
+    pub combos: String,
+    /// Evaluation settings (TOML: `preset`, `[image]`, `[metrics]`, `[params.<kind>]`; see
+    /// docs/keypoint-eval.md).
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Frames to evaluate (after --start and --stride).
+    #[arg(long, default_value_t = 100)]
+    pub frames: usize,
+    /// Frames skipped at the start.
+    #[arg(long, default_value_t = 0)]
+    pub start: usize,
+    /// Take every N-th frame (the paper's 1146 images are every 10th).
+    #[arg(long, default_value_t = 1)]
+    pub stride: usize,
+    /// Channel of LiDAR frames (overrides `[image] channel`).
+    #[arg(long)]
+    pub channel: Option<String>,
+    /// Detector groups (eval) or sweep tasks run at a time (default: one per core). With more
+    /// than one, OpenCV's own threads are turned off so times are single-thread times.
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Output folder.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// No plots.
+    #[arg(long)]
+    pub no_plots: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    #[command(flatten)]
+    pub input: InputArgs,
+    /// Image width (overrides `[image] width`; 0: the frame's own).
+    #[arg(long)]
+    pub width: Option<usize>,
+    /// Image height (overrides `[image] height`; 0: the frame's own).
+    #[arg(long)]
+    pub height: Option<usize>,
+    /// Resize interpolation (overrides `[image] interpolation`).
+    #[arg(long)]
+    pub interpolation: Option<String>,
+    /// The paper's figure quartiles (`paper-figure-medians.tsv`: figure, combination, q1,
+    /// median, q3) to print beside ours.
+    #[arg(long)]
+    pub paper: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub input: InputArgs,
+    /// Interpolations (comma-separated; default: all five).
+    #[arg(long, default_value = "cubic,lanczos4,area,nearest,linear")]
+    pub interpolations: String,
+    /// Widths: MIN:MAX:STEP or a list (the paper: 512:4096:128).
+    #[arg(long, default_value = "512:4096:128")]
+    pub widths: String,
+    /// Heights: MIN:MAX:STEP or a list (the paper: 32:256:32).
+    #[arg(long, default_value = "32:256:32")]
+    pub heights: String,
+}
+
+pub fn run(cmd: KeypointsCommand, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
+    match cmd {
+        KeypointsCommand::Eval(a) => eval::run(a, threads, quiet),
+        KeypointsCommand::Sweep(a) => sweep::run(a, threads, quiet),
+    }
+}

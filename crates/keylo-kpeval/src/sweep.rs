@@ -1,0 +1,410 @@
+//! The paper's Algorithm 1: every (interpolation, width, height) cell evaluated with every
+//! combination; per-cell means kept in a CSV that is appended as cells finish, so a stopped
+//! sweep resumes where it was; optima per metric and overall.
+
+use std::collections::BTreeSet;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use keylo_core::{BuildContext, Registry};
+use keylo_features::image::Interpolation;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::runner::run_group;
+use crate::stages::build_groups;
+use crate::{summarise, Combo, EvalSpec, KpEvalError, Plane, METRICS};
+
+/// The five interpolations, in the paper's order.
+pub const INTERPOLATIONS: [Interpolation; 5] = [
+    Interpolation::Cubic,
+    Interpolation::Lanczos4,
+    Interpolation::Area,
+    Interpolation::Nearest,
+    Interpolation::Linear,
+];
+
+/// The kebab-case name of an interpolation (`lanczos4`).
+pub fn interpolation_name(i: Interpolation) -> String {
+    serde_json::to_value(i)
+        .ok()
+        .and_then(|v| v.as_str().map(String::from))
+        .unwrap_or_default()
+}
+
+/// An interpolation by name.
+pub fn parse_interpolation(name: &str) -> Result<Interpolation, KpEvalError> {
+    serde_json::from_value(serde_json::Value::String(name.trim().to_ascii_lowercase())).map_err(
+        |_| {
+            KpEvalError::setting(
+                "sweep",
+                "interpolations",
+                format!("`{name}`: expected nearest, linear, cubic, area or lanczos4"),
+            )
+        },
+    )
+}
+
+/// Sizes from `MIN:MAX:STEP` or a comma-separated list; `what` names the option in errors.
+pub fn parse_sizes(spec: &str, what: &str) -> Result<Vec<usize>, KpEvalError> {
+    let bad = |m: String| KpEvalError::setting("sweep", what, format!("`{spec}`: {m}"));
+    let num = |s: &str| {
+        s.trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|v| *v > 0)
+            .ok_or_else(|| bad(format!("`{s}` is not a positive whole number")))
+    };
+    let out: Vec<usize> = if spec.contains(':') {
+        let parts: Vec<&str> = spec.split(':').collect();
+        let [lo, hi, step] = parts.as_slice() else {
+            return Err(bad("expected MIN:MAX:STEP".into()));
+        };
+        let (lo, hi, step) = (num(lo)?, num(hi)?, num(step)?);
+        if lo > hi {
+            return Err(bad("MIN is above MAX".into()));
+        }
+        (lo..=hi).step_by(step).collect()
+    } else {
+        spec.split(',').map(num).collect::<Result<_, _>>()?
+    };
+    if out.is_empty() {
+        return Err(bad("no size".into()));
+    }
+    Ok(out)
+}
+
+/// One preprocessing setting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Cell {
+    pub interpolation: Interpolation,
+    pub width: usize,
+    pub height: usize,
+}
+
+impl Cell {
+    fn key(&self) -> (String, usize, usize) {
+        (
+            interpolation_name(self.interpolation),
+            self.width,
+            self.height,
+        )
+    }
+}
+
+/// The axes of a sweep.
+#[derive(Debug, Clone)]
+pub struct SweepGrid {
+    pub interpolations: Vec<Interpolation>,
+    pub widths: Vec<usize>,
+    pub heights: Vec<usize>,
+}
+
+impl Default for SweepGrid {
+    /// The paper's grid: 5 interpolations × widths 512–4096 step 128 × heights 32–256 step 32.
+    fn default() -> Self {
+        Self {
+            interpolations: INTERPOLATIONS.to_vec(),
+            widths: (512..=4096).step_by(128).collect(),
+            heights: (32..=256).step_by(32).collect(),
+        }
+    }
+}
+
+impl SweepGrid {
+    /// Every cell, interpolation-major as in Algorithm 1.
+    pub fn cells(&self) -> Vec<Cell> {
+        let mut out = Vec::new();
+        for &interpolation in &self.interpolations {
+            for &width in &self.widths {
+                for &height in &self.heights {
+                    out.push(Cell {
+                        interpolation,
+                        width,
+                        height,
+                    });
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The mean of every metric for one combination in one cell.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CellResult {
+    pub interpolation: String,
+    pub width: usize,
+    pub height: usize,
+    pub combo: String,
+    pub images: usize,
+    /// `(metric key, mean)`, in [`METRICS`] order; metrics without a value are absent.
+    pub means: Vec<(String, f64)>,
+}
+
+impl CellResult {
+    /// The mean of metric `key`.
+    pub fn mean(&self, key: &str) -> Option<f64> {
+        self.means.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
+    }
+}
+
+/// The header of the sweep CSV.
+pub fn csv_header() -> String {
+    let mut h = String::from("interpolation,width,height,combo,images");
+    for m in METRICS {
+        h.push(',');
+        h.push_str(m.key);
+    }
+    h
+}
+
+impl CellResult {
+    fn csv(&self) -> String {
+        let mut line = format!(
+            "{},{},{},{},{}",
+            self.interpolation, self.width, self.height, self.combo, self.images
+        );
+        for m in METRICS {
+            line.push(',');
+            if let Some(v) = self.mean(m.key) {
+                line.push_str(&v.to_string());
+            }
+        }
+        line
+    }
+
+    fn parse(line: &str) -> Option<Self> {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 5 + METRICS.len() {
+            return None;
+        }
+        let means = METRICS
+            .iter()
+            .zip(&f[5..])
+            .filter_map(|(m, v)| v.parse::<f64>().ok().map(|v| (m.key.to_string(), v)))
+            .collect();
+        Some(Self {
+            interpolation: f[0].to_string(),
+            width: f[1].parse().ok()?,
+            height: f[2].parse().ok()?,
+            combo: f[3].to_string(),
+            images: f[4].parse().ok()?,
+            means,
+        })
+    }
+}
+
+/// Results found in an earlier sweep's CSV (a missing file: none). A file with another
+/// header is refused rather than mixed with.
+pub fn read_store(path: &Path) -> Result<Vec<CellResult>, KpEvalError> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(KpEvalError::io(path, e)),
+    };
+    let mut lines = text.lines();
+    match lines.next() {
+        None => return Ok(Vec::new()),
+        Some(h) if h == csv_header() => {}
+        Some(_) => {
+            return Err(KpEvalError::Format {
+                path: path.to_path_buf(),
+                message: "not a keylo sweep CSV of this version (header differs): \
+                          use another --out or delete it"
+                    .into(),
+            })
+        }
+    }
+    // A line cut short by a kill mid-write is ignored (that cell is run again).
+    Ok(lines.filter_map(CellResult::parse).collect())
+}
+
+/// How a sweep runs.
+pub struct SweepOptions<'a> {
+    /// Cells × detector groups evaluated at a time.
+    pub jobs: usize,
+    /// The CSV appended as cells finish (and read to resume).
+    pub store: PathBuf,
+    /// Called with (tasks done, tasks in all, tasks resumed from the store).
+    pub progress: Option<&'a (dyn Fn(usize, usize, usize) + Sync)>,
+}
+
+/// What a sweep found.
+#[derive(Debug, Default)]
+pub struct SweepResult {
+    /// Every (cell, combination) result, resumed ones included, in cell order.
+    pub results: Vec<CellResult>,
+    /// Combinations not built: (name, reason).
+    pub skipped: Vec<(String, String)>,
+    /// Tasks that failed: (cell and detector, error).
+    pub failed: Vec<(String, String)>,
+    /// (cell, detector group) tasks run now, and found done in the store.
+    pub tasks_run: usize,
+    pub tasks_resumed: usize,
+    /// Images evaluated now (per combination) and the wall-clock seconds it took.
+    pub images_evaluated: usize,
+    pub seconds: f64,
+}
+
+/// Runs the sweep of `combos` over `grid` on `planes`.
+pub fn run_sweep(
+    planes: &[Plane],
+    combos: &[Combo],
+    skip_unavailable: bool,
+    spec: &EvalSpec,
+    grid: &SweepGrid,
+    registry: &Registry,
+    ctx: &BuildContext,
+    opts: &SweepOptions,
+) -> Result<SweepResult, KpEvalError> {
+    if planes.len() < 2 {
+        return Err(KpEvalError::Input(format!(
+            "{} image(s): the match metrics need at least 2 consecutive images",
+            planes.len()
+        )));
+    }
+    let start = Instant::now();
+    let earlier = read_store(&opts.store)?;
+    let done: BTreeSet<((String, usize, usize), String)> = earlier
+        .iter()
+        .map(|r| {
+            (
+                (r.interpolation.clone(), r.width, r.height),
+                r.combo.clone(),
+            )
+        })
+        .collect();
+    // The groups (one per detector) and the skipped combinations, found once.
+    let cells = grid.cells();
+    let probe = cells.first().map_or((1024, 64), |c| (c.width, c.height));
+    let (probe_groups, skipped) =
+        build_groups(combos, spec, registry, ctx, probe, skip_unavailable)?;
+    let group_combos: Vec<Vec<Combo>> = probe_groups
+        .iter()
+        .map(|g| g.combos.iter().map(|(c, _)| c.clone()).collect())
+        .collect();
+    drop(probe_groups);
+    let mut tasks = Vec::new();
+    let mut resumed = 0;
+    for cell in &cells {
+        for gc in &group_combos {
+            if gc
+                .iter()
+                .all(|c| done.contains(&(cell.key(), c.name.clone())))
+            {
+                resumed += 1;
+            } else {
+                tasks.push((*cell, gc.clone()));
+            }
+        }
+    }
+    let store = open_store(&opts.store, earlier.is_empty())?;
+    let total = tasks.len() + resumed;
+    let finished = std::sync::atomic::AtomicUsize::new(resumed);
+    let images = std::sync::atomic::AtomicUsize::new(0);
+    let run_task = |(cell, gc): &(Cell, Vec<Combo>)| -> Result<Vec<CellResult>, (String, String)> {
+        let what = |e: &dyn std::fmt::Display| {
+            (
+                format!(
+                    "{} {}x{} {}",
+                    interpolation_name(cell.interpolation),
+                    cell.width,
+                    cell.height,
+                    gc.first().map_or("", |c| c.detector.as_str())
+                ),
+                e.to_string(),
+            )
+        };
+        let mut cell_spec = spec.clone();
+        cell_spec.image.width = cell.width;
+        cell_spec.image.height = cell.height;
+        cell_spec.image.interpolation = cell.interpolation;
+        let (groups, _) = build_groups(
+            gc,
+            &cell_spec,
+            registry,
+            ctx,
+            (cell.width, cell.height),
+            false,
+        )
+        .map_err(|e| what(&e))?;
+        let mut out = Vec::new();
+        for g in groups {
+            let (rows, failure) = run_group(g, planes, &cell_spec, &|| {});
+            if let Some((_, e)) = failure {
+                return Err(what(&e));
+            }
+            images.fetch_add(rows.len(), std::sync::atomic::Ordering::Relaxed);
+            for s in summarise(&rows) {
+                out.push(CellResult {
+                    interpolation: interpolation_name(cell.interpolation),
+                    width: cell.width,
+                    height: cell.height,
+                    combo: s.combo.clone(),
+                    images: s.images,
+                    means: s.metrics.iter().map(|(k, q)| (k.clone(), q.mean)).collect(),
+                });
+            }
+        }
+        if let Ok(mut f) = store.lock() {
+            let text: String = out.iter().map(|r| r.csv() + "\n").collect();
+            // A failed write only loses resumability of this cell.
+            let _ = f.write_all(text.as_bytes()).and_then(|()| f.flush());
+        }
+        let n = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if let Some(p) = opts.progress {
+            p(n, total, resumed);
+        }
+        Ok(out)
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.jobs.max(1))
+        .build()
+        .map_err(|e| KpEvalError::Input(format!("thread pool: {e}")))?;
+    let _single = (opts.jobs > 1).then(crate::runner::OpenCvThreads::single);
+    let outcomes: Vec<_> = pool.install(|| tasks.par_iter().map(run_task).collect());
+    let mut result = SweepResult {
+        skipped,
+        tasks_run: tasks.len(),
+        tasks_resumed: resumed,
+        ..SweepResult::default()
+    };
+    let mut all = earlier;
+    for o in outcomes {
+        match o {
+            Ok(r) => all.extend(r),
+            Err(f) => result.failed.push(f),
+        }
+    }
+    let order = |r: &CellResult| {
+        let i = INTERPOLATIONS
+            .iter()
+            .position(|x| interpolation_name(*x) == r.interpolation)
+            .unwrap_or(usize::MAX);
+        (i, r.width, r.height, r.combo.clone())
+    };
+    all.sort_by_key(order);
+    result.results = all;
+    result.images_evaluated = images.into_inner();
+    result.seconds = start.elapsed().as_secs_f64();
+    Ok(result)
+}
+
+fn open_store(path: &Path, fresh: bool) -> Result<Mutex<std::fs::File>, KpEvalError> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| KpEvalError::io(dir, e))?;
+    }
+    let mut f = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .map_err(|e| KpEvalError::io(path, e))?;
+    if fresh {
+        f.set_len(0).map_err(|e| KpEvalError::io(path, e))?;
+        writeln!(f, "{}", csv_header()).map_err(|e| KpEvalError::io(path, e))?;
+    }
+    Ok(Mutex::new(f))
+}
