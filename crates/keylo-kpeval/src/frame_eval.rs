@@ -108,13 +108,13 @@ fn pair(
     let mut matches = cross_checked(&prev.1, &cur.1, p.cross_check)?;
     let match_ms = ms(start);
     if p.max_match_distance > 0.0 {
-        matches.retain(|m| m.distance <= p.max_match_distance);
+        matches.retain(|m| f64::from(m.distance) <= p.max_match_distance);
     }
     let inliers = homography_inliers(&prev.0, &cur.0, &matches, p.ransac_px)?
         .iter()
         .filter(|b| **b)
         .count();
-    let (passed, knn_total) = knn_ratio(&prev.1, &cur.1, p.ratio)?;
+    let (passed, knn_total) = knn_ratio(&prev.1, &cur.1, p.ratio as f32)?;
     let n = matches.len();
     Ok(Pairing {
         match_ms,

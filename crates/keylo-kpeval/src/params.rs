@@ -34,12 +34,12 @@ pub struct MetricParams {
     /// RANSAC reprojection threshold of the match score, pixels.
     pub ransac_px: f64,
     /// Lowe's ratio of the distinctiveness metric.
-    pub ratio: f32,
+    pub ratio: f64,
     /// Cross-check the brute-force matches of the match ratio and match score.
     pub cross_check: bool,
     /// Drop matches with a descriptor distance above this (0: keep all). The authors' SuperPoint
     /// evaluation used 0.7 on its unit-length descriptors.
-    pub max_match_distance: f32,
+    pub max_match_distance: f64,
 }
 
 impl Default for MetricParams {
