@@ -153,3 +153,25 @@ fn bad_parameters_name_the_field() {
     };
     assert!(e.contains("scale_factor"), "{e}");
 }
+
+#[test]
+fn orb_refuses_sift_keypoints_instead_of_allocating_a_huge_pyramid() {
+    let frames = common::os0_frames();
+    let image = common::signal_image(&frames[0]);
+    let r = registry();
+    let mut sift = detector(&r, "sift", "");
+    let mut kps = sift.detect(&image).unwrap();
+    assert!(kps.iter().any(|k| k.octave > 7), "SIFT packs octaves");
+    let f = r.descriptors.get("orb").unwrap();
+    let resolved = f.resolve(&toml::Table::new()).unwrap();
+    let mut orb = f
+        .build(&resolved, &keylo_core::BuildContext::default())
+        .unwrap();
+    let e = orb.describe(&image, &mut kps).unwrap_err().to_string();
+    assert!(e.contains("octave") && e.contains("SIFT"), "{e}");
+    // FAST keypoints (octave 0) are described.
+    let mut fast = detector(&r, "fast", "");
+    let mut kps = fast.detect(&image).unwrap();
+    let d = orb.describe(&image, &mut kps).unwrap();
+    assert_eq!(d.rows, kps.len());
+}

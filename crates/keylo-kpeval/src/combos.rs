@@ -61,6 +61,10 @@ pub const PAPER: &[&str] = &[
 /// them; AKAZE, KAZE and SuperPoint describe their own keypoints only, or by explicit name).
 const GENERIC_DESCRIPTORS: &[&str] = &["brief", "brisk", "freak", "orb", "sift", "surf"];
 
+/// Pairs `all` leaves out: ORB describes octaves 0–7 only and SIFT packs octave and layer
+/// into its keypoints' octave (named explicitly, the pair is an error that says so).
+const INCOMPATIBLE: &[(&str, &str)] = &[("sift", "orb")];
+
 /// Which combinations to evaluate.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ComboSet {
@@ -177,7 +181,7 @@ fn all(registry: &Registry) -> Vec<Combo> {
             out.push(Combo::new(det, det));
         }
         for g in GENERIC_DESCRIPTORS {
-            if *g != det && descriptors.contains(g) {
+            if *g != det && descriptors.contains(g) && !INCOMPATIBLE.contains(&(det, *g)) {
                 out.push(Combo::new(det, g));
             }
         }

@@ -20,6 +20,11 @@ pub trait CvParams {
     fn describe_in_detector(&self) -> bool {
         false
     }
+    /// The highest keypoint octave the extractor can describe (ORB builds one pyramid level
+    /// per octave it is given), `None`: any.
+    fn max_octave(&self) -> Option<i32> {
+        None
+    }
 }
 
 /// An OpenCV `Feature2D` behind keylo's stage traits.
@@ -28,6 +33,7 @@ pub struct CvFeature {
     inner: Ptr<Feature2D>,
     describes: bool,
     describe_in_detector: bool,
+    max_octave: Option<i32>,
 }
 
 impl CvFeature {
@@ -38,6 +44,7 @@ impl CvFeature {
             inner: params.create()?,
             describes: P::DESCRIBES,
             describe_in_detector: P::DESCRIBES && params.describe_in_detector(),
+            max_octave: params.max_octave(),
         })
     }
 
@@ -86,6 +93,17 @@ impl CvFeature {
                 "`{}` detects keypoints but computes no descriptors",
                 self.kind
             )));
+        }
+        if let Some(max) = self.max_octave {
+            if let Some(k) = keypoints.iter().find(|k| k.octave < 0 || k.octave > max) {
+                return Err(FeaturesError::BadInput(format!(
+                    "`{}` describes keypoints of pyramid octaves 0–{max} only, got octave {} \
+                     (SIFT packs octave and layer into it): use keypoints of ORB or of a \
+                     single-scale detector (FAST, Shi-Tomasi, Harris, SuperPoint), or another \
+                     descriptor",
+                    self.kind, k.octave
+                )));
+            }
         }
         let mat = self.gray(image)?;
         let mut kps = to_cv_keypoints(keypoints)?;

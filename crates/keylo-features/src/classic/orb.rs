@@ -66,6 +66,9 @@ impl Default for OrbParams {
 impl CvParams for OrbParams {
     const KIND: &'static str = "orb";
     const DESCRIBES: bool = true;
+    fn max_octave(&self) -> Option<i32> {
+        Some(self.nlevels - 1)
+    }
     fn create(&self) -> Result<Ptr<Feature2D>, FeaturesError> {
         check(
             self.nfeatures >= 1,
