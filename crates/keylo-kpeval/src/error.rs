@@ -21,7 +21,7 @@ pub enum KpEvalError {
         combo: String,
         stage: String,
         #[source]
-        source: keylo_core::CoreError,
+        source: Box<keylo_core::CoreError>,
     },
     /// An image operation failed.
     #[error(transparent)]

@@ -38,7 +38,7 @@ fn detector_error(group: &Group) -> impl Fn(keylo_core::CoreError) -> KpEvalErro
     move |e| KpEvalError::Stage {
         combo: combo.clone(),
         stage: "detector".into(),
-        source: e,
+        source: Box::new(e),
     }
 }
 
@@ -145,7 +145,7 @@ pub fn evaluate_image(
             move |e| KpEvalError::Stage {
                 combo: name.clone(),
                 stage: stage.clone(),
-                source: e,
+                source: Box::new(e),
             }
         };
         let start = Instant::now();

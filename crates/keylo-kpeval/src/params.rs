@@ -80,7 +80,7 @@ impl MetricParams {
                 format!("{}: expected a factor in (0, 8]", self.scale),
             );
         }
-        if self.blur_kernel % 2 == 0 || self.blur_kernel > 99 {
+        if self.blur_kernel.is_multiple_of(2) || self.blur_kernel > 99 {
             return bad(
                 "metrics.blur_kernel",
                 format!("{}: expected an odd size up to 99", self.blur_kernel),

@@ -36,6 +36,9 @@ pub struct EvalResult {
     pub seconds: f64,
 }
 
+/// A group's rows and, when it stopped early, (what, error).
+pub(crate) type GroupOutcome = (Vec<Row>, Option<(String, String)>);
+
 /// Evaluates `combos` on `planes` with the image, metric and backend settings of `spec`.
 pub fn evaluate(
     planes: &[Plane],
@@ -62,7 +65,7 @@ pub fn evaluate(
             p(n, total);
         }
     };
-    let outcomes: Vec<(Vec<Row>, Option<(String, String)>)> = if opts.jobs > 1 {
+    let outcomes: Vec<GroupOutcome> = if opts.jobs > 1 {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(opts.jobs)
             .build()
@@ -108,7 +111,7 @@ pub(crate) fn run_group(
     planes: &[Plane],
     spec: &EvalSpec,
     tick: &(dyn Fn() + Sync),
-) -> (Vec<Row>, Option<(String, String)>) {
+) -> GroupOutcome {
     let mut state = GroupState::new(&group);
     let mut rows = Vec::new();
     let interpolation = serde_json::to_value(spec.image.interpolation)

@@ -70,7 +70,7 @@ pub fn build_groups(
             Err(KpEvalError::Stage {
                 combo: combo.name.clone(),
                 stage: stage.into(),
-                source: e,
+                source: Box::new(e),
             })
         }
     };

@@ -226,6 +226,8 @@ pub fn read_store(path: &Path) -> Result<Vec<CellResult>, KpEvalError> {
 pub struct SweepOptions<'a> {
     /// Cells × detector groups evaluated at a time.
     pub jobs: usize,
+    /// Skip combinations this build cannot construct instead of failing.
+    pub skip_unavailable: bool,
     /// The CSV appended as cells finish (and read to resume).
     pub store: PathBuf,
     /// Called with (tasks done, tasks in all, tasks resumed from the store).
@@ -253,7 +255,6 @@ pub struct SweepResult {
 pub fn run_sweep(
     planes: &[Plane],
     combos: &[Combo],
-    skip_unavailable: bool,
     spec: &EvalSpec,
     grid: &SweepGrid,
     registry: &Registry,
@@ -281,7 +282,7 @@ pub fn run_sweep(
     let cells = grid.cells();
     let probe = cells.first().map_or((1024, 64), |c| (c.width, c.height));
     let (probe_groups, skipped) =
-        build_groups(combos, spec, registry, ctx, probe, skip_unavailable)?;
+        build_groups(combos, spec, registry, ctx, probe, opts.skip_unavailable)?;
     let group_combos: Vec<Vec<Combo>> = probe_groups
         .iter()
         .map(|g| g.combos.iter().map(|(c, _)| c.clone()).collect())

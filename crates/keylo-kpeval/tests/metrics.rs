@@ -190,6 +190,7 @@ fn a_sweep_resumes_from_its_csv_and_gives_the_same_results() {
     };
     let opts = SweepOptions {
         jobs: 2,
+        skip_unavailable: false,
         store: dir.path().join("sweep.csv"),
         progress: None,
     };
@@ -198,7 +199,6 @@ fn a_sweep_resumes_from_its_csv_and_gives_the_same_results() {
         run_sweep(
             &planes,
             &combos,
-            false,
             &spec,
             &grid,
             &r,
@@ -240,7 +240,6 @@ fn a_sweep_resumes_from_its_csv_and_gives_the_same_results() {
     let e = run_sweep(
         &planes,
         &combos,
-        false,
         &spec,
         &grid,
         &r,
@@ -250,4 +249,15 @@ fn a_sweep_resumes_from_its_csv_and_gives_the_same_results() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("sweep.csv") && e.contains("header"), "{e}");
+}
+
+#[test]
+fn the_shipped_example_config_is_the_default() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../configs/keypoints/paper-eval.toml"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    let spec = EvalSpec::from_toml(&text, path).unwrap();
+    assert_eq!(spec, EvalSpec::default());
 }

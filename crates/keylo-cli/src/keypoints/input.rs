@@ -49,7 +49,7 @@ fn wanted(i: usize, args: &InputArgs) -> Option<bool> {
     if k / args.stride >= args.frames {
         return None;
     }
-    Some(k % args.stride == 0)
+    Some(k.is_multiple_of(args.stride))
 }
 
 /// Reads the images to evaluate.

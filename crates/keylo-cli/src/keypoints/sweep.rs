@@ -24,10 +24,10 @@ fn mean_of(results: &[&CellResult], key: &str) -> Option<f64> {
 }
 
 /// `(label, results)` groups of `results` by `key`, in first-seen order.
-fn group_by<'a, K: PartialEq + Clone>(
-    results: &'a [CellResult],
+fn group_by<K: PartialEq + Clone>(
+    results: &[CellResult],
     key: impl Fn(&CellResult) -> K,
-) -> Vec<(K, Vec<&'a CellResult>)> {
+) -> Vec<(K, Vec<&CellResult>)> {
     let mut out: Vec<(K, Vec<&CellResult>)> = Vec::new();
     for r in results {
         let k = key(r);
@@ -103,13 +103,13 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
     let result = run_sweep(
         &planes,
         &combos,
-        set.skips_unavailable(),
         &spec,
         &grid,
         &registry,
         &BuildContext::default(),
         &SweepOptions {
             jobs,
+            skip_unavailable: set.skips_unavailable(),
             store: out.join("sweep.csv"),
             progress: Some(&tick),
         },
