@@ -36,6 +36,9 @@ pub enum Command {
     /// Inspect configs and the registered backends.
     #[command(subcommand)]
     Config(ConfigCommand),
+    /// List and check run-time plugins (`kind = "plugin:NAME"`); see docs/plugins.md.
+    #[command(subcommand)]
+    Plugins(crate::cmd_plugins::PluginsCommand),
 }
 
 #[derive(Debug, Args)]
