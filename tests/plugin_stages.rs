@@ -11,7 +11,7 @@ use keylo::plugin::host::{register_plugin, Plugin};
 use keylo::plugin::FromConfig;
 use keylo::{
     CoreError, Descriptor, Descriptors, Detector, Downsampler, FrameFeatures, Image, Keypoint,
-    LidarFrame, PointCloud, Pipeline, Registrar, Registration, Registry,
+    LidarFrame, Pipeline, PointCloud, Registrar, Registration, Registry,
 };
 
 /// A built-in backend of `kind = inner`, the other keys its parameters.
@@ -24,8 +24,12 @@ fn inner<T: ?Sized + 'static>(
         .and_then(|v| v.as_str().map(str::to_string))
         .ok_or("`inner` (a built-in kind) is required")?;
     let registry = keylo::registry();
-    let factory = pick(&registry).get(&kind).ok_or(format!("no built-in `{kind}`"))?;
-    let params = factory.resolve(&params).map_err(|(k, m)| format!("{k}: {m}"))?;
+    let factory = pick(&registry)
+        .get(&kind)
+        .ok_or(format!("no built-in `{kind}`"))?;
+    let params = factory
+        .resolve(&params)
+        .map_err(|(k, m)| format!("{k}: {m}"))?;
     factory
         .build(&params, &Default::default())
         .map_err(|e| e.to_string())
@@ -162,17 +166,26 @@ fn every_stage_crosses_the_abi_unchanged() {
     let plugin = unsafe { Plugin::from_info(keylo_plugin_entry(), Path::new("(this test)")) }
         .map(Arc::new)
         .unwrap();
-    assert_eq!(plugin.offered(), "detector, descriptor, downsampler, registrar");
+    assert_eq!(
+        plugin.offered(),
+        "detector, descriptor, downsampler, registrar"
+    );
     register_plugin(&mut registry, &plugin);
 
     let builtin = run(&RawConfig::parse("built-in", CONFIG).unwrap(), &registry);
     let via_abi = run(&wrapped(), &registry);
     assert_eq!(builtin.len(), 4);
-    assert!(builtin[3].1.translation.vector.norm() > 0.01, "the sensor moves");
+    assert!(
+        builtin[3].1.translation.vector.norm() > 0.01,
+        "the sensor moves"
+    );
     for ((n_b, p_b), (n_p, p_p)) in builtin.iter().zip(&via_abi) {
         assert_eq!(n_b, n_p, "cloud sizes");
         assert!(n_b < &(512 * 64), "the matched keypoints select a subset");
         let d = (p_b.translation.vector - p_p.translation.vector).norm();
-        assert!(d < 1e-9 && p_b.rotation.angle_to(&p_p.rotation) < 1e-9, "{p_b} vs {p_p}");
+        assert!(
+            d < 1e-9 && p_b.rotation.angle_to(&p_p.rotation) < 1e-9,
+            "{p_b} vs {p_p}"
+        );
     }
 }

@@ -86,7 +86,9 @@ fn with(p: *mut KeyloPipeline, f: impl FnOnce(&mut Embedded) -> Result<(), CapiE
     // SAFETY: a non-NULL pipeline comes from `keylo_pipeline_new` (the API's contract).
     let p = unsafe { &mut *p };
     let outcome = match p.inner.as_mut() {
-        None => Err(CapiError::Argument("the pipeline failed earlier; free it".into())),
+        None => Err(CapiError::Argument(
+            "the pipeline failed earlier; free it".into(),
+        )),
         Some(inner) => match catch_unwind(AssertUnwindSafe(|| f(inner))) {
             Ok(r) => r,
             Err(e) => {

@@ -26,13 +26,18 @@ fn write_frame(path: &Path, f: &LidarFrame) {
     out.extend((f.rows as u32).to_le_bytes());
     out.extend((f.cols as u32).to_le_bytes());
     out.extend(f.timestamp.to_le_bytes());
-    f.column_times.iter().for_each(|t| out.extend(t.to_le_bytes()));
+    f.column_times
+        .iter()
+        .for_each(|t| out.extend(t.to_le_bytes()));
     for p in &f.points {
         p.coords.iter().for_each(|v| out.extend(v.to_le_bytes()));
     }
     f.signal.iter().for_each(|v| out.extend(v.to_le_bytes()));
     out.extend(f.valid.iter().map(|&v| u8::from(v)));
-    std::fs::File::create(path).unwrap().write_all(&out).unwrap();
+    std::fs::File::create(path)
+        .unwrap()
+        .write_all(&out)
+        .unwrap();
 }
 
 /// Five simulated OS1-64 frames (512 columns) written for the C program; their ground truth.
@@ -97,9 +102,19 @@ fn run(exe: &Path, config: &str, dir: &Path, mode: &str) -> Vec<[f64; 3]> {
         .output()
         .unwrap();
     let text = String::from_utf8_lossy(&o.stdout).into_owned();
-    assert!(o.status.success(), "{text}\n{}", String::from_utf8_lossy(&o.stderr));
-    assert!(text.starts_with(&format!("keylo {}", env!("CARGO_PKG_VERSION"))), "{text}");
-    assert!(text.contains("error points: xyz is NULL or n is 0"), "{text}");
+    assert!(
+        o.status.success(),
+        "{text}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        text.starts_with(&format!("keylo {}", env!("CARGO_PKG_VERSION"))),
+        "{text}"
+    );
+    assert!(
+        text.contains("error points: xyz is NULL or n is 0"),
+        "{text}"
+    );
     text.lines()
         .filter_map(|l| l.strip_prefix("pose "))
         .map(|l| {
@@ -112,10 +127,15 @@ fn run(exe: &Path, config: &str, dir: &Path, mode: &str) -> Vec<[f64; 3]> {
 
 fn check_against_truth(est: &[[f64; 3]], gt: &Trajectory, mode: &str) {
     assert_eq!(est.len(), FRAMES, "{mode}");
-    let truth = (gt.poses[0].inverse() * gt.poses[FRAMES - 1]).translation.vector;
+    let truth = (gt.poses[0].inverse() * gt.poses[FRAMES - 1])
+        .translation
+        .vector;
     let last = nalgebra::Vector3::from(est[FRAMES - 1]);
     assert!(truth.norm() > 0.01, "the simulated sensor moves");
-    assert!((last - truth).norm() < 0.15, "{mode}: estimated {last:?}, true {truth:?}");
+    assert!(
+        (last - truth).norm() < 0.15,
+        "{mode}: estimated {last:?}, true {truth:?}"
+    );
 }
 
 #[test]
@@ -124,7 +144,12 @@ fn c_program_runs_a_pipeline_on_frames_and_on_points() {
     let gt = simulate(dir.path());
     let exe = dir.path().join("embed");
     compile(&exe);
-    let frames = run(&exe, "[registrar]\nkind = \"kiss-icp\"\n", dir.path(), "frame");
+    let frames = run(
+        &exe,
+        "[registrar]\nkind = \"kiss-icp\"\n",
+        dir.path(),
+        "frame",
+    );
     check_against_truth(&frames, &gt, "organised frames");
     let points = run(
         &exe,
@@ -142,10 +167,17 @@ fn a_bad_config_is_an_error_message_not_a_crash() {
     let mut buf = vec![0 as std::ffi::c_char; 512];
     // SAFETY: valid strings and a writable buffer of the given length.
     let p = unsafe {
-        keylo_capi::ffi::keylo_pipeline_new(text.as_ptr(), std::ptr::null(), buf.as_mut_ptr(), buf.len())
+        keylo_capi::ffi::keylo_pipeline_new(
+            text.as_ptr(),
+            std::ptr::null(),
+            buf.as_mut_ptr(),
+            buf.len(),
+        )
     };
     assert!(p.is_null());
     // SAFETY: the buffer is NUL-terminated by the call.
-    let msg = unsafe { std::ffi::CStr::from_ptr(buf.as_ptr()) }.to_string_lossy().into_owned();
+    let msg = unsafe { std::ffi::CStr::from_ptr(buf.as_ptr()) }
+        .to_string_lossy()
+        .into_owned();
     assert!(msg.contains("`registrar.kind = \"nope\"`"), "{msg}");
 }

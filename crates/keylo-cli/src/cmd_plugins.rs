@@ -71,7 +71,11 @@ fn table(plugins: &[std::sync::Arc<Plugin>]) -> String {
         return "no plugin found\n".into();
     }
     let mut out = String::new();
-    let _ = writeln!(out, "{:<20} {:<10} {:<4} {:<36} PATH", "NAME", "VERSION", "ABI", "KINDS");
+    let _ = writeln!(
+        out,
+        "{:<20} {:<10} {:<4} {:<36} PATH",
+        "NAME", "VERSION", "ABI", "KINDS"
+    );
     for p in plugins {
         let kinds: Vec<String> = p
             .kinds

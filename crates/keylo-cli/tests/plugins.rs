@@ -58,7 +58,11 @@ impl Setup {
             ("nan", "FAULT_NAN"),
         ] {
             let define = format!("PLUGIN_NAME=\"{name}\"");
-            compile_plugin(&faulty, &plugins.join(format!("lib{name}.so")), &[&define, flag]);
+            compile_plugin(
+                &faulty,
+                &plugins.join(format!("lib{name}.so")),
+                &[&define, flag],
+            );
         }
         small_sim(&dir.path().join("data"), 5);
         Self { dir }
@@ -135,7 +139,10 @@ fn plugins_list_and_check_show_name_version_kinds_path_abi() {
         .lines()
         .find(|l| l.starts_with("plugin:c-peaks "))
         .unwrap_or_else(|| panic!("{text}"));
-    assert!(line.contains("0.1.0") && line.contains(" 1 ") && line.contains("detector"), "{line}");
+    assert!(
+        line.contains("0.1.0") && line.contains(" 1 ") && line.contains("detector"),
+        "{line}"
+    );
     assert!(line.contains("libc-peaks.so"), "{line}");
     assert!(text.contains("KEYLO_PLUGIN_PATH"), "{text}");
     // The broken ones are reported, not listed.
@@ -145,7 +152,11 @@ fn plugins_list_and_check_show_name_version_kinds_path_abi() {
     let file = s.plugins().join("libc-peaks.so");
     let o = s.keylo(&["plugins", "check", file.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stdout(&o).contains("ok: detector `plugin:c-peaks`"), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains("ok: detector `plugin:c-peaks`"),
+        "{}",
+        stdout(&o)
+    );
 }
 
 #[test]
@@ -180,22 +191,35 @@ fn keypoints_outside_the_image_or_nan_are_rejected_naming_the_plugin() {
     let o = s.run(&["detector.kind=plugin:outside"]);
     assert!(!o.status.success());
     let e = stderr(&o);
-    assert!(e.contains("plugin `outside`") && e.contains("lies outside the"), "{e}");
+    assert!(
+        e.contains("plugin `outside`") && e.contains("lies outside the"),
+        "{e}"
+    );
     assert!(!e.contains("panicked"), "{e}");
     let o = s.run(&["detector.kind=plugin:nan"]);
     assert!(!o.status.success());
     let e = stderr(&o);
-    assert!(e.contains("plugin `nan`") && e.contains("non-finite coordinate"), "{e}");
+    assert!(
+        e.contains("plugin `nan`") && e.contains("non-finite coordinate"),
+        "{e}"
+    );
 }
 
 #[test]
 fn a_missing_plugin_lists_the_searched_folders() {
     let s = Setup::new();
     let o = s.run(&["detector.kind=plugin:nowhere"]);
-    expect_failure(&o, 2, "plugin `nowhere` not found: looked for libnowhere.so, nowhere.so");
+    expect_failure(
+        &o,
+        2,
+        "plugin `nowhere` not found: looked for libnowhere.so, nowhere.so",
+    );
     let e = stderr(&o);
     assert!(e.contains("target/plugins ([plugins] dirs)"), "{e}");
-    assert!(e.contains(&format!("{} (KEYLO_PLUGIN_PATH)", s.plugins().display())), "{e}");
+    assert!(
+        e.contains(&format!("{} (KEYLO_PLUGIN_PATH)", s.plugins().display())),
+        "{e}"
+    );
     assert!(e.contains(".local/lib/keylo/plugins (default)"), "{e}");
 }
 

@@ -6,9 +6,7 @@
 
 use std::ffi::{c_char, CStr, CString};
 
-use keylo_core::{
-    Descriptors, DescriptorData, Image, Keypoint, PointCloud, Registration,
-};
+use keylo_core::{DescriptorData, Descriptors, Image, Keypoint, PointCloud, Registration};
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion};
 
 use crate::abi::*;
@@ -77,7 +75,10 @@ pub fn cloud_view(cloud: &PointCloud) -> KeyloCloud {
         len: cloud.len(),
         // `Point3<f64>` is `#[repr(C)]` over `[f64; 3]`: the points are `3 * len` doubles.
         xyz: cloud.points.as_ptr().cast::<f64>(),
-        times: cloud.times.as_ref().map_or(std::ptr::null(), |t| t.as_ptr()),
+        times: cloud
+            .times
+            .as_ref()
+            .map_or(std::ptr::null(), |t| t.as_ptr()),
         intensities: cloud
             .intensities
             .as_ref()

@@ -56,7 +56,10 @@ fn registry() -> (Registry, Arc<Plugin>) {
 #[test]
 fn exported_table_is_checked_and_registered() {
     let (registry, plugin) = registry();
-    assert_eq!((plugin.name.as_str(), plugin.version.as_str()), ("panicky", "9.9.9"));
+    assert_eq!(
+        (plugin.name.as_str(), plugin.version.as_str()),
+        ("panicky", "9.9.9")
+    );
     assert_eq!(registry.detectors.kinds(), ["plugin:panicky"]);
     assert!(registry.descriptors.kinds().is_empty());
 }
@@ -65,9 +68,15 @@ fn exported_table_is_checked_and_registered() {
 fn a_panic_in_detect_becomes_an_error_naming_the_plugin() {
     let (registry, _) = registry();
     let factory = registry.detectors.get("plugin:panicky").unwrap();
-    let mut det = factory.build(&toml::Table::new(), &Default::default()).unwrap();
+    let mut det = factory
+        .build(&toml::Table::new(), &Default::default())
+        .unwrap();
     let image = Image::new_gray(8, 4, Channel::Signal);
-    let e = det.detect(&image).err().map(|e| e.to_string()).unwrap_or_default();
+    let e = det
+        .detect(&image)
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
     assert!(e.contains("plugin `panicky`"), "{e}");
     assert!(e.contains("detect panicked (code 4)"), "{e}");
     assert!(e.contains("index out of bounds"), "{e}");
@@ -85,7 +94,10 @@ fn a_panic_in_configure_becomes_an_error() {
         .err()
         .map(|e| e.to_string())
         .unwrap_or_default();
-    assert!(e.contains("configure panicked") && e.contains("configure exploded"), "{e}");
+    assert!(
+        e.contains("configure panicked") && e.contains("configure exploded"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -98,5 +110,8 @@ fn unknown_parameters_are_rejected_by_the_sdk() {
         .err()
         .map(|e| e.to_string())
         .unwrap_or_default();
-    assert!(e.contains("configuration rejected") && e.contains("nope"), "{e}");
+    assert!(
+        e.contains("configuration rejected") && e.contains("nope"),
+        "{e}"
+    );
 }

@@ -53,7 +53,10 @@ impl keylo_plugin::FromConfig for LoamEdges {
     type Params = Params;
     fn from_params(params: Params) -> Result<Self, String> {
         if params.half_window == 0 || params.half_window > 32 {
-            return Err(format!("half_window = {}: expected 1..=32", params.half_window));
+            return Err(format!(
+                "half_window = {}: expected 1..=32",
+                params.half_window
+            ));
         }
         if params.cell_width == 0 || params.cell_height == 0 || params.per_cell == 0 {
             return Err("cell_width, cell_height and per_cell must be at least 1".into());
@@ -91,7 +94,10 @@ impl Detector for LoamEdges {
     fn detect(&mut self, image: &Image) -> Result<Vec<Keypoint>, CoreError> {
         let p = self.params.clone();
         if image.data.len() < image.height * image.stride {
-            return Err(CoreError::stage("detector", "loam-edges: image buffer too small"));
+            return Err(CoreError::stage(
+                "detector",
+                "loam-edges: image buffer too small",
+            ));
         }
         let mut out = Vec::new();
         for cy in (0..image.height).step_by(p.cell_height) {

@@ -17,7 +17,11 @@ fn example_config_runs_with_the_built_plugin() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let file = root.join("configs/examples/lab-loam-edges-kiss-icp.toml");
     let mut raw = RawConfig::from_file(&file).unwrap();
-    for s in ["source.frames=5", "source.sensor=os1-64", "source.columns=512"] {
+    for s in [
+        "source.frames=5",
+        "source.sensor=os1-64",
+        "source.columns=512",
+    ] {
         raw.set(s).unwrap();
     }
     raw.set(&format!("plugins.dirs=[\"{}\"]", plugin_dir().display()))
@@ -29,11 +33,19 @@ fn example_config_runs_with_the_built_plugin() {
     assert_eq!(loaded[0].version, env!("CARGO_PKG_VERSION"));
     let config = registry.resolve(&raw).unwrap();
     let mut pipeline = Pipeline::build(&config, &registry).unwrap();
-    let gt = pipeline.source.ground_truth().expect("the simulator has ground truth");
+    let gt = pipeline
+        .source
+        .ground_truth()
+        .expect("the simulator has ground truth");
     let mut last = None;
     while let Some(r) = pipeline.step() {
         let r = r.unwrap();
-        assert!(r.keypoints > 50, "frame {}: {} keypoints", r.index, r.keypoints);
+        assert!(
+            r.keypoints > 50,
+            "frame {}: {} keypoints",
+            r.index,
+            r.keypoints
+        );
         assert!(r.cloud_points < 512 * 64, "{}", r.cloud_points);
         last = Some(r);
     }
@@ -44,5 +56,8 @@ fn example_config_runs_with_the_built_plugin() {
     let (g0, g4) = (gt.poses[0], gt.poses[4]);
     let truth = (g0.inverse() * g4).translation.vector;
     assert!(truth.norm() > 0.01, "the simulated sensor moves: {truth:?}");
-    assert!((est - truth).norm() < 0.1, "estimated {est:?}, true {truth:?}");
+    assert!(
+        (est - truth).norm() < 0.1,
+        "estimated {est:?}, true {truth:?}"
+    );
 }

@@ -69,12 +69,20 @@ impl Instance {
             _ => "failed",
         };
         let message = convert::read_error(err);
-        let message = if message.is_empty() { "(no message)".into() } else { message };
+        let message = if message.is_empty() {
+            "(no message)".into()
+        } else {
+            message
+        };
         self.error(format!("{call} {what} (code {}): {message}", err.code))
     }
 
     /// Runs `f` with the state and a fresh error; a non-zero code becomes an error.
-    fn call(&mut self, name: &str, f: impl FnOnce(*mut c_void, *mut KeyloError) -> i32) -> Result<(), CoreError> {
+    fn call(
+        &mut self,
+        name: &str,
+        f: impl FnOnce(*mut c_void, *mut KeyloError) -> i32,
+    ) -> Result<(), CoreError> {
         let mut err = convert::empty_error();
         let code = f(self.state, &mut err);
         if code != KEYLO_OK {
@@ -122,7 +130,11 @@ impl Drop for Instance {
 
 impl Detector for Instance {
     fn detect(&mut self, image: &Image) -> Result<Vec<Keypoint>, CoreError> {
-        let f = self.kind.fns.detect.ok_or_else(|| self.error("no detect function"))?;
+        let f = self
+            .kind
+            .fns
+            .detect
+            .ok_or_else(|| self.error("no detect function"))?;
         let name = convert::image_name(image);
         let view = convert::image_view(image, &name).map_err(|m| self.error(m))?;
         let mut out = KeyloKeypoints {
@@ -144,7 +156,11 @@ impl Descriptor for Instance {
         image: &Image,
         keypoints: &mut Vec<Keypoint>,
     ) -> Result<Descriptors, CoreError> {
-        let f = self.kind.fns.describe.ok_or_else(|| self.error("no describe function"))?;
+        let f = self
+            .kind
+            .fns
+            .describe
+            .ok_or_else(|| self.error("no describe function"))?;
         let name = convert::image_name(image);
         let view = convert::image_view(image, &name).map_err(|m| self.error(m))?;
         let input = convert::keypoints_view(keypoints);
@@ -180,7 +196,11 @@ impl Downsampler for Instance {
         frame: &LidarFrame,
         features: &FrameFeatures,
     ) -> Result<PointCloud, CoreError> {
-        let f = self.kind.fns.downsample.ok_or_else(|| self.error("no downsample function"))?;
+        let f = self
+            .kind
+            .fns
+            .downsample
+            .ok_or_else(|| self.error("no downsample function"))?;
         let view = super::views::frame_view(frame).map_err(|m| self.error(m))?;
         let feats = super::views::FeaturesView::new(features).map_err(|m| self.error(m))?;
         let feats_abi = feats.abi();
@@ -192,10 +212,16 @@ impl Downsampler for Instance {
             intensities: std::ptr::null(),
         };
         // SAFETY: valid views of `frame` and `features` and an output for the call.
-        self.call("downsample", |s, e| unsafe { f(s, &view, &feats_abi, &mut out, e) })?;
+        self.call("downsample", |s, e| unsafe {
+            f(s, &view, &feats_abi, &mut out, e)
+        })?;
         // SAFETY: the plugin's buffers hold `len` points until its next call.
         let cloud = unsafe { convert::cloud_from_abi(&out) }.map_err(|m| self.error(m))?;
-        if let Some(i) = cloud.points.iter().position(|p| !p.coords.iter().all(|v| v.is_finite())) {
+        if let Some(i) = cloud
+            .points
+            .iter()
+            .position(|p| !p.coords.iter().all(|v| v.is_finite()))
+        {
             return Err(self.error(format!("point {i} of the cloud is not finite")));
         }
         Ok(cloud)
@@ -217,7 +243,11 @@ impl From<Instance> for RegistrarInstance {
 impl Registrar for RegistrarInstance {
     fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
         let inst = &mut self.inner;
-        let f = inst.kind.fns.register_cloud.ok_or_else(|| inst.error("no register_cloud function"))?;
+        let f = inst
+            .kind
+            .fns
+            .register_cloud
+            .ok_or_else(|| inst.error("no register_cloud function"))?;
         let view = convert::cloud_view(cloud);
         let mut out = KeyloRegistration {
             stamp: cloud.timestamp,

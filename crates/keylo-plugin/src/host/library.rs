@@ -109,12 +109,13 @@ impl Plugin {
         // Never unloaded: function pointers into it live in factories and instances.
         let lib: &'static Library = Box::leak(Box::new(lib));
         // SAFETY: the symbol is declared as `KeyloPluginEntryFn` by the ABI.
-        let entry = unsafe { lib.get::<KeyloPluginEntryFn>(ENTRY_SYMBOL.as_bytes()) }.map_err(
-            |_| PluginError::MissingEntry {
-                path: path.to_path_buf(),
-                symbol: ENTRY_SYMBOL.into(),
-            },
-        )?;
+        let entry =
+            unsafe { lib.get::<KeyloPluginEntryFn>(ENTRY_SYMBOL.as_bytes()) }.map_err(|_| {
+                PluginError::MissingEntry {
+                    path: path.to_path_buf(),
+                    symbol: ENTRY_SYMBOL.into(),
+                }
+            })?;
         // SAFETY: the entry function takes no argument and returns the table pointer.
         let info = unsafe { entry() };
         // SAFETY: a non-NULL table stays valid while the library is loaded (forever).
@@ -126,7 +127,10 @@ impl Plugin {
     /// # Safety
     /// `info` must be NULL or point to a table that starts with a `u32` ABI version and, when
     /// that version is supported, is a [`KeyloPluginInfo`] valid for the life of the process.
-    pub unsafe fn from_info(info: *const KeyloPluginInfo, path: &Path) -> Result<Self, PluginError> {
+    pub unsafe fn from_info(
+        info: *const KeyloPluginInfo,
+        path: &Path,
+    ) -> Result<Self, PluginError> {
         let invalid = |message: String| PluginError::Invalid {
             path: path.to_path_buf(),
             message,
@@ -149,12 +153,17 @@ impl Plugin {
         // SAFETY: the strings are NULL or NUL-terminated per the ABI.
         let name = unsafe { c_str(info.name, "name") }.map_err(invalid)?;
         if name.is_empty() || name.contains(|c: char| c.is_whitespace() || c == ':') {
-            return Err(invalid(format!("name `{name}` must be non-empty, without spaces or `:`")));
+            return Err(invalid(format!(
+                "name `{name}` must be non-empty, without spaces or `:`"
+            )));
         }
         // SAFETY: as above.
         let version = unsafe { c_str(info.version, "version") }.map_err(invalid)?;
         if info.kind_count > 0 && info.kinds.is_null() {
-            return Err(invalid(format!("kinds is NULL with kind_count {}", info.kind_count)));
+            return Err(invalid(format!(
+                "kinds is NULL with kind_count {}",
+                info.kind_count
+            )));
         }
         let raw = if info.kind_count == 0 {
             &[][..]
@@ -199,8 +208,7 @@ unsafe fn check_kind(k: &KeyloPluginKind) -> Result<Kind, String> {
     // SAFETY: forwarded from the caller.
     let summary = unsafe { c_str(k.summary, "summary") }.unwrap_or_default();
     let need = |what: &str| format!("{} kind without a `{what}` function", stage.section());
-    let (Some(create), Some(configure), Some(destroy)) = (k.create, k.configure, k.destroy)
-    else {
+    let (Some(create), Some(configure), Some(destroy)) = (k.create, k.configure, k.destroy) else {
         return Err(need("create/configure/destroy"));
     };
     let has_run = match stage {

@@ -48,7 +48,11 @@ impl<T: ?Sized> Factory<T> for PluginFactory<T> {
     }
 }
 
-fn factory<T: ?Sized>(plugin: &Arc<Plugin>, kind: &Kind, wrap: fn(Instance) -> Box<T>) -> Box<PluginFactory<T>> {
+fn factory<T: ?Sized>(
+    plugin: &Arc<Plugin>,
+    kind: &Kind,
+    wrap: fn(Instance) -> Box<T>,
+) -> Box<PluginFactory<T>> {
     let summary = format!(
         "{} (plugin {} {}, {})",
         kind.summary,

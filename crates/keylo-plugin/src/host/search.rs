@@ -116,7 +116,12 @@ mod tests {
         if cfg!(target_os = "linux") {
             assert_eq!(
                 n,
-                ["librange-edges.so", "range-edges.so", "librange_edges.so", "range_edges.so"]
+                [
+                    "librange-edges.so",
+                    "range-edges.so",
+                    "librange_edges.so",
+                    "range_edges.so"
+                ]
             );
         }
     }
@@ -130,6 +135,9 @@ mod tests {
             ],
         };
         let e = s.find("x").err().map(|e| e.to_string()).unwrap_or_default();
-        assert!(e.contains("/nonexistent/a ([plugins] dirs); /nonexistent/b (KEYLO_PLUGIN_PATH)"), "{e}");
+        assert!(
+            e.contains("/nonexistent/a ([plugins] dirs); /nonexistent/b (KEYLO_PLUGIN_PATH)"),
+            "{e}"
+        );
     }
 }

@@ -39,7 +39,11 @@ pub struct FeaturesView {
 impl FeaturesView {
     /// A view of `features`, borrowing its images, keypoints and descriptors.
     pub fn new(features: &FrameFeatures) -> Result<Self, String> {
-        let names: Vec<CString> = features.per_image.iter().map(|c| image_name(&c.image)).collect();
+        let names: Vec<CString> = features
+            .per_image
+            .iter()
+            .map(|c| image_name(&c.image))
+            .collect();
         let mut entries = Vec::with_capacity(names.len());
         for (c, name) in features.per_image.iter().zip(&names) {
             entries.push(KeyloImageFeatures {

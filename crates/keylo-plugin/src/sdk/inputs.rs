@@ -3,9 +3,7 @@
 
 use std::sync::Arc;
 
-use keylo_core::{
-    BeamGeometry, Channel, ChannelFeatures, FrameFeatures, Image, LidarFrame,
-};
+use keylo_core::{BeamGeometry, Channel, ChannelFeatures, FrameFeatures, Image, LidarFrame};
 use nalgebra::Point3;
 
 use crate::abi::*;

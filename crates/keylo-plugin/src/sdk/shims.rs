@@ -100,7 +100,11 @@ unsafe extern "C" fn configure<T: FromConfig>(
             .parse()
             .map_err(|e| (KEYLO_ERR_CONFIG, format!("invalid TOML: {e}")))?;
         let params = parse_params::<T::Params>(&table).map_err(|(path, message)| {
-            let at = if path.is_empty() { String::new() } else { format!("`{path}`: ") };
+            let at = if path.is_empty() {
+                String::new()
+            } else {
+                format!("`{path}`: ")
+            };
             (KEYLO_ERR_CONFIG, format!("{at}{message}"))
         })?;
         slot.inner = Some(T::from_params(params).map_err(|m| (KEYLO_ERR_CONFIG, m))?);
@@ -222,26 +226,38 @@ unsafe extern "C" fn register_cloud<T: FromConfig + Registrar>(
 pub fn detector<T: FromConfig + Detector>(summary: &str) -> KindSpec {
     let mut kind = common::<T>(KEYLO_STAGE_DETECTOR);
     kind.detect = Some(detect::<T>);
-    KindSpec { kind, summary: summary.into() }
+    KindSpec {
+        kind,
+        summary: summary.into(),
+    }
 }
 
 /// The kind of a descriptor backend `T` (used by `export_plugin!`).
 pub fn descriptor<T: FromConfig + Descriptor>(summary: &str) -> KindSpec {
     let mut kind = common::<T>(KEYLO_STAGE_DESCRIPTOR);
     kind.describe = Some(describe::<T>);
-    KindSpec { kind, summary: summary.into() }
+    KindSpec {
+        kind,
+        summary: summary.into(),
+    }
 }
 
 /// The kind of a downsampler backend `T` (used by `export_plugin!`).
 pub fn downsampler<T: FromConfig + Downsampler>(summary: &str) -> KindSpec {
     let mut kind = common::<T>(KEYLO_STAGE_DOWNSAMPLER);
     kind.downsample = Some(downsample::<T>);
-    KindSpec { kind, summary: summary.into() }
+    KindSpec {
+        kind,
+        summary: summary.into(),
+    }
 }
 
 /// The kind of a registrar backend `T` (used by `export_plugin!`).
 pub fn registrar<T: FromConfig + Registrar>(summary: &str) -> KindSpec {
     let mut kind = common::<T>(KEYLO_STAGE_REGISTRAR);
     kind.register_cloud = Some(register_cloud::<T>);
-    KindSpec { kind, summary: summary.into() }
+    KindSpec {
+        kind,
+        summary: summary.into(),
+    }
 }
