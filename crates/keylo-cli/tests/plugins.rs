@@ -12,10 +12,13 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// Compiles C `source` into the shared library `out` with `defines` (`-D` flags).
+/// Compiles C (or C++, by the extension) `source` into the shared library `out` with
+/// `defines` (`-D` flags).
 fn compile_plugin(source: &Path, out: &Path, defines: &[&str]) {
+    let cpp = source.extension().is_some_and(|e| e == "cpp");
     let compiler = cc::Build::new()
         .cargo_metadata(false)
+        .cpp(cpp)
         .opt_level(2)
         .debug(false)
         .target(env!("KEYLO_TEST_TARGET"))
@@ -23,7 +26,8 @@ fn compile_plugin(source: &Path, out: &Path, defines: &[&str]) {
         .try_get_compiler()
         .expect("a C compiler");
     let mut cmd = compiler.to_command();
-    cmd.args(["-shared", "-fPIC", "-std=c99", "-Wall", "-Werror"])
+    let std = if cpp { "-std=c++17" } else { "-std=c99" };
+    cmd.args(["-shared", "-fPIC", std, "-Wall", "-Werror"])
         .arg("-I")
         .arg(root().join("crates/keylo-plugin/include"))
         .args(defines.iter().map(|d| format!("-D{d}")))
@@ -48,6 +52,11 @@ impl Setup {
         compile_plugin(
             &root().join("plugins/c-peaks/peaks.c"),
             &plugins.join("libc-peaks.so"),
+            &[],
+        );
+        compile_plugin(
+            &root().join("plugins/cpp-gradient/gradient.cpp"),
+            &plugins.join("libcpp-gradient.so"),
             &[],
         );
         let faulty = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plugins/faulty.c");
@@ -85,7 +94,12 @@ impl Setup {
 
     /// `keylo run` of the C example config on the simulated data with extra `--set`s.
     fn run(&self, sets: &[&str]) -> Output {
-        let config = root().join("configs/examples/lab-c-peaks-kiss-icp.toml");
+        self.run_config("lab-c-peaks-kiss-icp.toml", sets)
+    }
+
+    /// `keylo run configs/examples/NAME` on the simulated data with extra `--set`s.
+    fn run_config(&self, name: &str, sets: &[&str]) -> Output {
+        let config = root().join("configs/examples").join(name);
         let (data, out) = (self.dir.path().join("data"), self.dir.path().join("out"));
         let mut args = vec![
             "run".to_string(),
@@ -107,8 +121,21 @@ impl Setup {
 
 #[test]
 fn c_plugin_runs_from_its_example_config() {
-    let s = Setup::new();
-    let o = s.run(&[]);
+    check_run(&Setup::new(), "lab-c-peaks-kiss-icp.toml", "plugin:c-peaks");
+}
+
+#[test]
+fn cpp_plugin_runs_from_its_example_config() {
+    check_run(
+        &Setup::new(),
+        "lab-cpp-gradient-kiss-icp.toml",
+        "plugin:cpp-gradient",
+    );
+}
+
+/// Runs example config `name` on five frames: five finite poses, keypoints from `kind`.
+fn check_run(s: &Setup, name: &str, kind: &str) {
+    let o = s.run_config(name, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = s.dir.path().join("out");
     let tum = std::fs::read_to_string(out.join("trajectory.tum")).unwrap();
@@ -125,7 +152,7 @@ fn c_plugin_runs_from_its_example_config() {
     assert!(kps > 50.0, "{summary}");
     // The config a run writes names the plugin and where it was found.
     let written = std::fs::read_to_string(out.join("config.toml")).unwrap();
-    assert!(written.contains("kind = \"plugin:c-peaks\""), "{written}");
+    assert!(written.contains(&format!("kind = \"{kind}\"")), "{written}");
     assert!(written.contains("[plugins]"), "{written}");
 }
 
