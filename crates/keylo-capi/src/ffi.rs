@@ -187,30 +187,39 @@ unsafe fn grid<T: Copy>(ptr: *const T, n: usize, fill: impl Fn(usize) -> T) -> V
 /// Every non-NULL pointer of `f` must hold the values its doc says.
 unsafe fn frame_from(f: &KeyloFrameIn) -> Result<LidarFrame, CapiError> {
     let (rows, cols) = (f.rows as usize, f.cols as usize);
-    let n = rows * cols;
+    let n = rows
+        .checked_mul(cols)
+        .filter(|n| n.checked_mul(3).is_some())
+        .ok_or_else(|| CapiError::Argument(format!("frame: {rows} x {cols} overflows")))?;
     if n == 0 || f.xyz.is_null() {
         return Err(CapiError::Argument(format!(
             "frame: {rows} x {cols} pixels, xyz {}: expected a non-empty grid and xyz",
             if f.xyz.is_null() { "NULL" } else { "given" }
         )));
     }
-    // SAFETY (every `grid` call): forwarded from the caller.
+    // SAFETY: non-NULL, and the caller guarantees `3 * rows * cols` floats.
     let xyz = unsafe { grid(f.xyz, 3 * n, |_| 0.0) };
     let points: Vec<Point3<f32>> = xyz
         .chunks_exact(3)
         .map(|p| Point3::new(p[0], p[1], p[2]))
         .collect();
+    // SAFETY: the caller guarantees the buffer holds the documented values.
     let range = unsafe { grid(f.range, n, |i| points[i].coords.norm()) };
+    // SAFETY: the caller guarantees the buffer holds the documented values.
     let valid_raw = unsafe { grid(f.valid, n, |i| u8::from(range[i] > 0.0)) };
     Ok(LidarFrame {
         index: 0,
         timestamp: f.timestamp,
         rows,
         cols,
+        // SAFETY: the caller guarantees the buffer holds the documented values.
         column_times: unsafe { grid(f.column_times, cols, |_| f.timestamp) },
         pixel_times: None,
+        // SAFETY: the caller guarantees the buffer holds the documented values.
         signal: unsafe { grid(f.signal, n, |_| 0.0) },
+        // SAFETY: the caller guarantees the buffer holds the documented values.
         reflectivity: unsafe { grid(f.reflectivity, n, |_| 0.0) },
+        // SAFETY: the caller guarantees the buffer holds the documented values.
         near_ir: unsafe { grid(f.near_ir, n, |_| 0.0) },
         valid: valid_raw.iter().map(|&v| v != 0).collect(),
         range,
@@ -265,8 +274,11 @@ pub unsafe extern "C" fn keylo_pipeline_push_points(
         if xyz.is_null() || n == 0 {
             return Err(CapiError::Argument("points: xyz is NULL or n is 0".into()));
         }
+        let len = n
+            .checked_mul(3)
+            .ok_or_else(|| CapiError::Argument(format!("points: n = {n} overflows")))?;
         // SAFETY: `3 * n` floats per the contract.
-        let flat = unsafe { std::slice::from_raw_parts(xyz, 3 * n) };
+        let flat = unsafe { std::slice::from_raw_parts(xyz, len) };
         let cloud = RawCloud {
             timestamp,
             points: flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),

@@ -61,15 +61,18 @@ pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, String> {
     let n = rows
         .checked_mul(cols)
         .ok_or_else(|| format!("frame {rows} x {cols} overflows"))?;
-    // SAFETY (every `copy_*` below): forwarded from the caller.
+    // SAFETY: the caller guarantees every grid holds `rows * cols` values.
     let grid = |p: *const f32, what: &str| unsafe { copy_slice(p, n, what) };
+    // SAFETY: the caller guarantees the buffer holds the documented values.
     let xyz = unsafe { copy_slice(f.points, 3 * n, "frame points") }?;
     Ok(LidarFrame {
         index: f.index,
         timestamp: f.timestamp,
         rows,
         cols,
+        // SAFETY: the caller guarantees the buffer holds the documented values.
         column_times: unsafe { copy_slice(f.column_times, cols, "column_times") }?,
+        // SAFETY: the caller guarantees the buffer holds the documented values.
         pixel_times: unsafe { copy_optional(f.pixel_times, n) },
         range: grid(f.range, "range")?,
         signal: grid(f.signal, "signal")?,
@@ -79,6 +82,7 @@ pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, String> {
             .chunks_exact(3)
             .map(|p| Point3::new(p[0], p[1], p[2]))
             .collect(),
+        // SAFETY: the caller guarantees the buffer holds the documented values.
         valid: unsafe { copy_slice(f.valid, n, "valid") }?,
         beams: Arc::new(BeamGeometry {
             model: "unknown (plugin ABI v1)".into(),
