@@ -8,6 +8,7 @@ pub use keylo_eval as eval;
 pub use keylo_features as features;
 pub use keylo_io as io;
 pub use keylo_kpeval as kpeval;
+pub use keylo_plugin as plugin;
 pub use keylo_registration as registration;
 pub use keylo_sim as sim;
 

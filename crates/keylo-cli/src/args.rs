@@ -40,6 +40,9 @@ pub enum Command {
     /// and sweep image size × interpolation.
     #[command(subcommand)]
     Keypoints(crate::keypoints::KeypointsCommand),
+    /// List and check run-time plugins (`kind = "plugin:NAME"`); see docs/plugins.md.
+    #[command(subcommand)]
+    Plugins(crate::cmd_plugins::PluginsCommand),
 }
 
 #[derive(Debug, Args)]

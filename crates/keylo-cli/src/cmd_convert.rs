@@ -18,8 +18,8 @@ use crate::{configs, EXIT_FRAME_FAILED};
 
 pub fn run(args: ConvertArgs, quiet: bool) -> Result<ExitCode> {
     let fields = fields(&args)?;
-    let registry = keylo::registry();
-    let (_, mut source) = configs::open_data(&registry, &args.data)?;
+    let mut registry = keylo::registry();
+    let (_, mut source) = configs::open_data(&mut registry, &args.data)?;
     let description = source.info().description;
     let dir = match args.format {
         ConvertFormat::KittiBin => args.out.join("velodyne"),

@@ -32,8 +32,8 @@ struct Info {
 }
 
 pub fn run(args: InfoArgs) -> Result<ExitCode> {
-    let registry = keylo::registry();
-    let (kind, mut source) = configs::open_data(&registry, &args.data)?;
+    let mut registry = keylo::registry();
+    let (kind, mut source) = configs::open_data(&mut registry, &args.data)?;
     let mut info = Info {
         kind,
         path: args.data.data.display().to_string(),

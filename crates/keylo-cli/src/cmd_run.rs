@@ -15,9 +15,9 @@ use crate::report::{self, Failure, Summary, Totals};
 use crate::{configs, resources, trajectories, EXIT_FRAME_FAILED, EXIT_INTERRUPTED};
 
 pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
-    let registry = keylo::registry();
+    let mut registry = keylo::registry();
     let config = configs::load(
-        &registry,
+        &mut registry,
         args.config.as_deref(),
         args.data.as_deref(),
         args.meta.as_deref(),

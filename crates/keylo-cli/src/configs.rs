@@ -9,10 +9,10 @@ use keylo::Registry;
 /// The built-in demo config (`configs/demo.toml`).
 pub const DEMO: &str = include_str!("../../../configs/demo.toml");
 
-/// Reads `file` (or the demo when `None` and no `--data`), applies `--data` and `--set`, and
-/// resolves it against the registry.
+/// Reads `file` (or the demo when `None` and no `--data`), applies `--data` and `--set`, loads
+/// the plugins it names (`kind = "plugin:NAME"`) into the registry and resolves it.
 pub fn load(
-    registry: &Registry,
+    registry: &mut Registry,
     file: Option<&Path>,
     data: Option<&Path>,
     meta: Option<&Path>,
@@ -38,6 +38,7 @@ pub fn load(
     for s in sets {
         raw.set(s)?;
     }
+    keylo::plugin::load_for_config(registry, &raw)?;
     Ok(registry.resolve(&raw)?)
 }
 
@@ -90,7 +91,7 @@ fn apply_meta(raw: &mut RawConfig, meta: &Path) -> Result<()> {
 /// The source of `keylo info` / `keylo convert`: the data path's detected kind, its metadata
 /// and overrides; also returns the source kind.
 pub fn open_data(
-    registry: &Registry,
+    registry: &mut Registry,
     data: &crate::args::DataArgs,
 ) -> Result<(String, Box<dyn keylo::ImageSource>)> {
     let config = load(

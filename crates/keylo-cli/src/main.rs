@@ -5,6 +5,7 @@ mod cmd_config;
 mod cmd_convert;
 mod cmd_eval;
 mod cmd_info;
+mod cmd_plugins;
 mod cmd_run;
 mod cmd_sim;
 mod compare;
@@ -55,6 +56,7 @@ fn main() -> ExitCode {
         Command::Info(a) => cmd_info::run(a),
         Command::Convert(a) => cmd_convert::run(a, cli.quiet),
         Command::Config(a) => cmd_config::run(a),
+        Command::Plugins(a) => cmd_plugins::run(a),
         Command::Compare(a) => compare::run(a, cli.threads, cli.quiet),
         Command::Keypoints(a) => keypoints::run(a, cli.threads, cli.quiet),
     };

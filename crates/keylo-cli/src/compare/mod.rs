@@ -109,7 +109,7 @@ fn write(path: &Path, text: &str) -> Result<(), CompareError> {
 /// config: a key no config accepts is an error that names it; a key only some configs accept
 /// (window sizes and a raw-cloud config) is left out for the others, which run once.
 fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Planned>> {
-    let registry = keylo::registry();
+    let mut registry = keylo::registry();
     let configs: Vec<Option<PathBuf>> = if args.configs.is_empty() {
         vec![None]
     } else {
@@ -121,7 +121,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
     let mut per_config = Vec::new();
     for config in &configs {
         let base = configs::load(
-            &registry,
+            &mut registry,
             config.as_deref(),
             Some(first_data),
             None,
@@ -129,7 +129,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
         )?;
         let windows = grid::windows_of(base.downsampler.params.get("windows"));
         let rejected = rejected_axes(
-            &registry,
+            &mut registry,
             config.as_deref(),
             first_data,
             &args.sets,
@@ -175,7 +175,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
             sets.extend(grid::set_strings(&point, windows));
             let variant = variant_label(&stem, &grid::label(&point, windows), configs.len() > 1);
             for (data, data_label) in args.data.iter().zip(&data_labels) {
-                configs::load(&registry, config.as_deref(), Some(data), None, &sets)
+                configs::load(&mut registry, config.as_deref(), Some(data), None, &sets)
                     .with_context(|| format!("configuration {variant} on {data_label}"))?;
                 let id = format!("{data_label}/{}", slug(&variant));
                 plans.push(Planned {
@@ -199,7 +199,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
 
 /// The axes (index, why) that `config` rejects when each of their values is set alone.
 fn rejected_axes(
-    registry: &keylo::Registry,
+    registry: &mut keylo::Registry,
     config: Option<&Path>,
     data: &Path,
     sets: &[String],

@@ -66,7 +66,7 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
         spec.image.interpolation = parse_interpolation(i)?;
     }
     let paper = args.paper.as_deref().map(PaperFigures::read).transpose()?;
-    let registry = keylo::registry();
+    let registry = input::registry(&args.input)?;
     let set = ComboSet::parse(&args.input.combos);
     let combos = parse_combos(&set, &registry).context("--combos")?;
     let planes = input::planes(&args.input, &spec)?;

@@ -26,6 +26,25 @@ pub fn spec(args: &InputArgs) -> Result<EvalSpec> {
     Ok(spec)
 }
 
+/// keylo's registry with the plugins of the search path registered as `plugin:NAME` (only
+/// looked for when the combinations name a plugin or are `all`).
+pub fn registry(args: &InputArgs) -> Result<keylo::Registry> {
+    let mut registry = keylo::registry();
+    let wants = args.combos.contains("plugin:") || args.combos.trim() == "all";
+    if !wants {
+        return Ok(registry);
+    }
+    let search = keylo::plugin::SearchPath::new(&args.plugin_dirs);
+    for lib in search.libraries() {
+        match keylo::plugin::Plugin::open(&lib) {
+            Ok(p) => keylo::plugin::host::register_plugin(&mut registry, &p),
+            // Other shared libraries may share a folder with plugins.
+            Err(e) => tracing::info!("{}: not loaded as a plugin: {e}", lib.display()),
+        }
+    }
+    Ok(registry)
+}
+
 /// The PNG files of `dir` in natural name order (none: not a PNG folder).
 fn png_files(dir: &Path) -> Vec<PathBuf> {
     let Ok(entries) = std::fs::read_dir(dir) else {
@@ -88,8 +107,8 @@ pub fn planes(args: &InputArgs, spec: &EvalSpec) -> Result<Vec<Plane>> {
         meta: args.meta.clone(),
         sets: Vec::new(),
     };
-    let registry = keylo::registry();
-    let (_, mut source) = configs::open_data(&registry, &data)?;
+    let mut registry = keylo::registry();
+    let (_, mut source) = configs::open_data(&mut registry, &data)?;
     let mut i = 0usize;
     while let Some(frame) = source.next_frame() {
         let frame = frame.with_context(|| format!("--data {}: frame {i}", args.data.display()))?;

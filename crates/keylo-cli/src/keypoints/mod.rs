@@ -36,6 +36,11 @@ pub struct InputArgs {
     /// a list such as AKAZE_AKAZE,ORB_ORB,FAST_BRIEF,SUPERPOINT.
     #[arg(long, default_value = "paper")]
     pub combos: String,
+    /// A folder of plugin libraries (repeatable; then `KEYLO_PLUGIN_PATH` and
+    /// ~/.local/lib/keylo/plugins): their detectors and descriptors become `plugin:NAME`
+    /// combinations, e.g. `plugin:loam-edges_BRIEF`, and join `all`.
+    #[arg(long = "plugin-dir", value_name = "DIR")]
+    pub plugin_dirs: Vec<PathBuf>,
     /// Evaluation settings (TOML: `preset`, `[image]`, `[metrics]`, `[params.<kind>]`; see
     /// docs/keypoint-eval.md).
     #[arg(long)]

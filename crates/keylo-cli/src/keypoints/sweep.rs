@@ -85,7 +85,7 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
         widths: parse_sizes(&args.widths, "--widths")?,
         heights: parse_sizes(&args.heights, "--heights")?,
     };
-    let registry = keylo::registry();
+    let registry = input::registry(&args.input)?;
     let set = ComboSet::parse(&args.input.combos);
     let combos = parse_combos(&set, &registry).context("--combos")?;
     let planes = input::planes(&args.input, &spec)?;

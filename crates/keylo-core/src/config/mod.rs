@@ -5,18 +5,22 @@
 //! validated and every default is filled in.
 
 mod output;
+mod plugins;
 mod raw;
 mod render;
 mod resolve;
 
 pub use output::{OnBadFrame, OutputConfig};
+pub use plugins::PluginsConfig;
 pub use raw::RawConfig;
 pub use render::{allowed_values, render_resolved, resolve_ref};
 
 use std::path::PathBuf;
 
-/// The sections of a config file, in pipeline order.
-pub const SECTIONS: [&str; 7] = [
+/// The sections of a config file, in pipeline order (`[plugins]` first: it says where
+/// `kind = "plugin:NAME"` backends are found).
+pub const SECTIONS: [&str; 8] = [
+    "plugins",
     "source",
     "image",
     "detector",
@@ -73,6 +77,7 @@ pub struct PipelineConfig {
     pub downsampler: StageConfig,
     pub registrar: StageConfig,
     pub output: OutputConfig,
+    pub plugins: PluginsConfig,
 }
 
 impl PipelineConfig {

@@ -2,12 +2,26 @@ use std::fmt::Write;
 
 use serde_json::Value;
 
-use super::{OutputConfig, PipelineConfig, StageConfig, BY_IMAGE_KEY};
+use super::{OutputConfig, PipelineConfig, PluginsConfig, StageConfig, BY_IMAGE_KEY};
 use crate::Registry;
 
 /// The resolved config as TOML, each key preceded by its documentation.
 pub fn render_resolved(config: &PipelineConfig, registry: &Registry) -> String {
     let mut out = format!("# keylo config resolved from {}\n", config.origin);
+    if config.plugins != PluginsConfig::default() {
+        out.push_str("\n[plugins]\n");
+        let schema = schemars::schema_for!(PluginsConfig).to_value();
+        let mut plugins = config.plugins.clone();
+        // Written out absolute: the rendered file may be read from another folder.
+        plugins.dirs = plugins
+            .dir_paths(&config.base_dir)
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect();
+        if let Ok(table) = toml::Table::try_from(&plugins) {
+            write_table(&mut out, "plugins", &table, &schema, &schema);
+        }
+    }
     for (section, stage) in config.stages() {
         write_stage(&mut out, registry, section, section, stage);
         for (image, sub) in &stage.by_image {

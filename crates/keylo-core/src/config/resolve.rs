@@ -36,6 +36,7 @@ impl Registry {
             downsampler: stage("downsampler")?,
             registrar: stage("registrar")?,
             output: resolve_output(raw)?,
+            plugins: raw.plugins()?,
         })
     }
 
@@ -165,6 +166,24 @@ fn expect_table(origin: &str, path: &str, value: &toml::Value) -> Result<toml::T
                 other.type_str()
             ),
         }),
+    }
+}
+
+impl RawConfig {
+    /// The `[plugins]` section, validated (the plugin loader reads it before resolving, since
+    /// plugin kinds must be registered first).
+    pub fn plugins(&self) -> Result<super::PluginsConfig, ConfigError> {
+        let table = match self.table.get("plugins") {
+            None => return Ok(super::PluginsConfig::default()),
+            Some(value) => expect_table(&self.origin, "plugins", value)?,
+        };
+        parse_params::<super::PluginsConfig>(&table).map_err(|(path, message)| {
+            ConfigError::Invalid {
+                origin: self.origin.clone(),
+                path: format!("plugins.{path}"),
+                message,
+            }
+        })
     }
 }
 

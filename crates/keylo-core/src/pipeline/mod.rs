@@ -57,6 +57,8 @@ pub struct Odometry {
     pub registrar: Box<dyn Registrar>,
     /// Whether the per-image overrides were checked against the images of a first frame.
     checked_images: bool,
+    /// The cloud of the last registered frame (kept for embedders, e.g. the C API).
+    last_cloud: Option<crate::PointCloud>,
 }
 
 fn build_stage<T: ?Sized + 'static>(
@@ -118,6 +120,7 @@ impl Odometry {
             )?,
             registrar: build_stage(&registry.registrars, "registrar", &config.registrar, &ctx)?,
             checked_images: false,
+            last_cloud: None,
         };
         if odometry.detector.any() && odometry.image.is_none() {
             return Err(CoreError::stage(
@@ -126,6 +129,12 @@ impl Odometry {
             ));
         }
         Ok(odometry)
+    }
+
+    /// The cloud the downsampler gave the registrar for the last frame processed, in the
+    /// sensor frame (not deskewed); `None` before the first frame.
+    pub fn last_cloud(&self) -> Option<&crate::PointCloud> {
+        self.last_cloud.as_ref()
     }
 
     /// Runs every stage on one frame.
@@ -158,12 +167,14 @@ impl Odometry {
             other => other,
         })?;
         timings.register = t.elapsed().as_secs_f64();
+        let cloud_points = cloud.len();
+        self.last_cloud = Some(cloud);
         Ok(FrameResult {
             index: frame.index,
             stamp: reg.stamp,
             pose: reg.pose,
             keypoints: features.keypoint_count(),
-            cloud_points: cloud.len(),
+            cloud_points,
             registered_points: reg.source_points,
             iterations: reg.iterations,
             converged: reg.converged,

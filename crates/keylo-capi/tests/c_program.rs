@@ -1,0 +1,183 @@
+//! `tests/embed.c`, compiled with `cc` against `include/keylo.h` and `libkeylo_capi.so`, runs a
+//! pipeline on five simulated frames, pushed as organised frames and as point clouds with
+//! per-point times, and its poses follow the simulator's ground truth.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use keylo::config::RawConfig;
+use keylo::{LidarFrame, Trajectory};
+
+const FRAMES: usize = 5;
+
+fn here() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
+}
+
+/// Where cargo put `libkeylo_capi.so` (beside this test binary).
+fn lib_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("test binary path");
+    exe.parent().expect("deps folder").to_path_buf()
+}
+
+fn write_frame(path: &Path, f: &LidarFrame) {
+    let mut out = Vec::new();
+    out.extend((f.rows as u32).to_le_bytes());
+    out.extend((f.cols as u32).to_le_bytes());
+    out.extend(f.timestamp.to_le_bytes());
+    f.column_times
+        .iter()
+        .for_each(|t| out.extend(t.to_le_bytes()));
+    for p in &f.points {
+        p.coords.iter().for_each(|v| out.extend(v.to_le_bytes()));
+    }
+    f.signal.iter().for_each(|v| out.extend(v.to_le_bytes()));
+    out.extend(f.valid.iter().map(|&v| u8::from(v)));
+    std::fs::File::create(path)
+        .unwrap()
+        .write_all(&out)
+        .unwrap();
+}
+
+/// Five simulated OS1-64 frames (512 columns) written for the C program; their ground truth.
+fn simulate(dir: &Path) -> Trajectory {
+    let mut raw = RawConfig::builtin();
+    for s in [
+        "source.kind=sim",
+        "source.scene=lab",
+        "source.sensor=os1-64",
+        "source.columns=512",
+        &format!("source.frames={FRAMES}"),
+    ] {
+        raw.set(s).unwrap();
+    }
+    let registry = keylo::registry();
+    let config = registry.resolve(&raw).unwrap();
+    let mut source = keylo::build_source(&config, &registry).unwrap();
+    let mut k = 0;
+    while let Some(frame) = source.next_frame() {
+        write_frame(&dir.join(format!("frame_{k}.bin")), &frame.unwrap());
+        k += 1;
+    }
+    assert_eq!(k, FRAMES);
+    source.ground_truth().expect("simulator ground truth")
+}
+
+fn compile(exe: &Path) {
+    let target = env!("KEYLO_TEST_TARGET");
+    let compiler = cc::Build::new()
+        .cargo_metadata(false)
+        .opt_level(1)
+        .debug(false)
+        .target(target)
+        .host(target)
+        .try_get_compiler()
+        .expect("a C compiler");
+    let o = compiler
+        .to_command()
+        .args(["-std=c99", "-Wall", "-Werror", "-I"])
+        .arg(here().join("include"))
+        .arg(here().join("tests/embed.c"))
+        .arg("-o")
+        .arg(exe)
+        .arg("-L")
+        .arg(lib_dir())
+        .arg(format!("-Wl,-rpath,{}", lib_dir().display()))
+        .args(["-lkeylo_capi", "-lm"])
+        .output()
+        .expect("the C compiler runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Runs the program; the translation of every frame.
+fn run(exe: &Path, config: &str, dir: &Path, mode: &str) -> Vec<[f64; 3]> {
+    let cfg = dir.join(format!("{mode}.toml"));
+    std::fs::write(&cfg, config).unwrap();
+    let o = Command::new(exe)
+        .arg(&cfg)
+        .arg(dir)
+        .arg(FRAMES.to_string())
+        .arg(mode)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        o.status.success(),
+        "{text}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        text.starts_with(&format!("keylo {}", env!("CARGO_PKG_VERSION"))),
+        "{text}"
+    );
+    assert!(
+        text.contains("error points: xyz is NULL or n is 0"),
+        "{text}"
+    );
+    text.lines()
+        .filter_map(|l| l.strip_prefix("pose "))
+        .map(|l| {
+            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            assert!(v[8] > 1000.0, "registered cloud of {} points", v[8]);
+            [v[1], v[2], v[3]]
+        })
+        .collect()
+}
+
+fn check_against_truth(est: &[[f64; 3]], gt: &Trajectory, mode: &str) {
+    assert_eq!(est.len(), FRAMES, "{mode}");
+    let truth = (gt.poses[0].inverse() * gt.poses[FRAMES - 1])
+        .translation
+        .vector;
+    let last = nalgebra::Vector3::from(est[FRAMES - 1]);
+    assert!(truth.norm() > 0.01, "the simulated sensor moves");
+    assert!(
+        (last - truth).norm() < 0.15,
+        "{mode}: estimated {last:?}, true {truth:?}"
+    );
+}
+
+#[test]
+fn c_program_runs_a_pipeline_on_frames_and_on_points() {
+    let dir = tempfile::tempdir().unwrap();
+    let gt = simulate(dir.path());
+    let exe = dir.path().join("embed");
+    compile(&exe);
+    let frames = run(
+        &exe,
+        "[registrar]\nkind = \"kiss-icp\"\n",
+        dir.path(),
+        "frame",
+    );
+    check_against_truth(&frames, &gt, "organised frames");
+    let points = run(
+        &exe,
+        "[source.projection]\nrows = 64\ncols = 512\nfov_up_deg = 22.5\nfov_down_deg = -22.5\n\n\
+         [registrar]\nkind = \"kiss-icp\"\n",
+        dir.path(),
+        "points",
+    );
+    check_against_truth(&points, &gt, "point clouds");
+}
+
+#[test]
+fn a_bad_config_is_an_error_message_not_a_crash() {
+    let text = std::ffi::CString::new("[registrar]\nkind = \"nope\"\n").unwrap();
+    let mut buf = vec![0 as std::ffi::c_char; 512];
+    // SAFETY: valid strings and a writable buffer of the given length.
+    let p = unsafe {
+        keylo_capi::ffi::keylo_pipeline_new(
+            text.as_ptr(),
+            std::ptr::null(),
+            buf.as_mut_ptr(),
+            buf.len(),
+        )
+    };
+    assert!(p.is_null());
+    // SAFETY: the buffer is NUL-terminated by the call.
+    let msg = unsafe { std::ffi::CStr::from_ptr(buf.as_ptr()) }
+        .to_string_lossy()
+        .into_owned();
+    assert!(msg.contains("`registrar.kind = \"nope\"`"), "{msg}");
+}

@@ -1,0 +1,271 @@
+//! A plugin instance behind keylo's stage traits: inputs are lent as ABI views, outputs are
+//! copied and checked (keypoints inside the image and finite, descriptor rows matching).
+
+use std::ffi::{c_void, CString};
+use std::sync::Arc;
+
+use keylo_core::{
+    CoreError, Descriptor, Descriptors, Detector, Downsampler, FrameFeatures, Image, Keypoint,
+    LidarFrame, PointCloud, Registrar, Registration,
+};
+
+use super::library::{Kind, Plugin};
+use crate::abi::*;
+use crate::convert;
+
+/// A created and configured instance of one plugin kind; destroyed on drop.
+pub struct Instance {
+    plugin: Arc<Plugin>,
+    kind: Kind,
+    state: *mut c_void,
+}
+
+// SAFETY: the ABI requires an instance to be usable from any thread, one thread at a time;
+// `&mut self` on every call gives exactly that.
+unsafe impl Send for Instance {}
+
+impl Instance {
+    /// Creates an instance of `kind` and configures it with `params` (serialised as TOML).
+    pub fn new(plugin: Arc<Plugin>, kind: Kind, params: &toml::Table) -> Result<Self, CoreError> {
+        let mut err = convert::empty_error();
+        // SAFETY: `create` is the plugin's checked, non-NULL create function.
+        let state = unsafe { (kind.fns.create)(&mut err) };
+        let inst = Self {
+            plugin,
+            kind,
+            state,
+        };
+        if state.is_null() {
+            return Err(inst.failure("create", &err));
+        }
+        let text = toml::to_string(params).map_err(|e| inst.error(format!("parameters: {e}")))?;
+        let text = CString::new(text).map_err(|_| inst.error("parameters hold a NUL byte"))?;
+        let mut err = convert::empty_error();
+        // SAFETY: a live instance, a NUL-terminated string and a writable error.
+        let code = unsafe { (inst.kind.fns.configure)(inst.state, text.as_ptr(), &mut err) };
+        if code != KEYLO_OK {
+            return Err(inst.failure("configure", &err));
+        }
+        Ok(inst)
+    }
+
+    /// An error naming the plugin, its file and the stage.
+    fn error(&self, message: impl std::fmt::Display) -> CoreError {
+        CoreError::stage(
+            self.kind.stage.section(),
+            format!(
+                "plugin `{}` ({}): {message}",
+                self.plugin.name,
+                self.plugin.path.display()
+            ),
+        )
+    }
+
+    fn failure(&self, call: &str, err: &KeyloError) -> CoreError {
+        let what = match err.code {
+            KEYLO_ERR_CONFIG => "configuration rejected",
+            KEYLO_ERR_INPUT => "input rejected",
+            KEYLO_ERR_PANIC => "panicked",
+            _ => "failed",
+        };
+        let message = convert::read_error(err);
+        let message = if message.is_empty() {
+            "(no message)".into()
+        } else {
+            message
+        };
+        self.error(format!("{call} {what} (code {}): {message}", err.code))
+    }
+
+    /// Runs `f` with the state and a fresh error; a non-zero code becomes an error.
+    fn call(
+        &mut self,
+        name: &str,
+        f: impl FnOnce(*mut c_void, *mut KeyloError) -> i32,
+    ) -> Result<(), CoreError> {
+        let mut err = convert::empty_error();
+        let code = f(self.state, &mut err);
+        if code != KEYLO_OK {
+            if err.code == KEYLO_OK {
+                err.code = code;
+            }
+            return Err(self.failure(name, &err));
+        }
+        Ok(())
+    }
+
+    /// Keypoints inside `image` with finite coordinates, or an error naming the first bad one.
+    fn check_keypoints(&self, keypoints: &[Keypoint], image: &Image) -> Result<(), CoreError> {
+        let (w, h) = (image.width as f32, image.height as f32);
+        for (i, k) in keypoints.iter().enumerate() {
+            if !k.x.is_finite() || !k.y.is_finite() {
+                return Err(self.error(format!(
+                    "keypoint {i} has a non-finite coordinate ({}, {})",
+                    k.x, k.y
+                )));
+            }
+            if k.x < 0.0 || k.y < 0.0 || k.x >= w || k.y >= h {
+                return Err(self.error(format!(
+                    "keypoint {i} at ({}, {}) lies outside the {}x{} image `{}`",
+                    k.x,
+                    k.y,
+                    image.width,
+                    image.height,
+                    image.name()
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Instance {
+    fn drop(&mut self) {
+        if !self.state.is_null() {
+            // SAFETY: the instance came from `create` and is not used after this.
+            unsafe { (self.kind.fns.destroy)(self.state) };
+        }
+    }
+}
+
+impl Detector for Instance {
+    fn detect(&mut self, image: &Image) -> Result<Vec<Keypoint>, CoreError> {
+        let f = self
+            .kind
+            .fns
+            .detect
+            .ok_or_else(|| self.error("no detect function"))?;
+        let name = convert::image_name(image);
+        let view = convert::image_view(image, &name).map_err(|m| self.error(m))?;
+        let mut out = KeyloKeypoints {
+            data: std::ptr::null(),
+            len: 0,
+        };
+        // SAFETY: valid image view (borrowing `image`, `name`) and output for the call.
+        self.call("detect", |s, e| unsafe { f(s, &view, &mut out, e) })?;
+        // SAFETY: the plugin's output buffer holds `len` keypoints until its next call.
+        let kps = unsafe { convert::keypoints_from_abi(&out) }.map_err(|m| self.error(m))?;
+        self.check_keypoints(&kps, image)?;
+        Ok(kps)
+    }
+}
+
+impl Descriptor for Instance {
+    fn describe(
+        &mut self,
+        image: &Image,
+        keypoints: &mut Vec<Keypoint>,
+    ) -> Result<Descriptors, CoreError> {
+        let f = self
+            .kind
+            .fns
+            .describe
+            .ok_or_else(|| self.error("no describe function"))?;
+        let name = convert::image_name(image);
+        let view = convert::image_view(image, &name).map_err(|m| self.error(m))?;
+        let input = convert::keypoints_view(keypoints);
+        let mut out_kp = KeyloKeypoints {
+            data: std::ptr::null(),
+            len: 0,
+        };
+        let mut out = convert::descriptors_view(None);
+        // SAFETY: valid views of `image` and `keypoints` and outputs for the call.
+        self.call("describe", |s, e| unsafe {
+            f(s, &view, &input, &mut out_kp, &mut out, e)
+        })?;
+        // SAFETY: the plugin's buffers hold what their lengths say until its next call.
+        let kept = unsafe { convert::keypoints_from_abi(&out_kp) }.map_err(|m| self.error(m))?;
+        // SAFETY: as above.
+        let d = unsafe { convert::descriptors_from_abi(&out) }.map_err(|m| self.error(m))?;
+        if d.rows != kept.len() {
+            return Err(self.error(format!(
+                "{} descriptor rows for {} keypoints",
+                d.rows,
+                kept.len()
+            )));
+        }
+        self.check_keypoints(&kept, image)?;
+        *keypoints = kept;
+        Ok(d)
+    }
+}
+
+impl Downsampler for Instance {
+    fn downsample(
+        &mut self,
+        frame: &LidarFrame,
+        features: &FrameFeatures,
+    ) -> Result<PointCloud, CoreError> {
+        let f = self
+            .kind
+            .fns
+            .downsample
+            .ok_or_else(|| self.error("no downsample function"))?;
+        let view = super::views::frame_view(frame).map_err(|m| self.error(m))?;
+        let feats = super::views::FeaturesView::new(features).map_err(|m| self.error(m))?;
+        let feats_abi = feats.abi();
+        let mut out = KeyloCloud {
+            timestamp: frame.timestamp,
+            len: 0,
+            xyz: std::ptr::null(),
+            times: std::ptr::null(),
+            intensities: std::ptr::null(),
+        };
+        // SAFETY: valid views of `frame` and `features` and an output for the call.
+        self.call("downsample", |s, e| unsafe {
+            f(s, &view, &feats_abi, &mut out, e)
+        })?;
+        // SAFETY: the plugin's buffers hold `len` points until its next call.
+        let cloud = unsafe { convert::cloud_from_abi(&out) }.map_err(|m| self.error(m))?;
+        if let Some(i) = cloud
+            .points
+            .iter()
+            .position(|p| !p.coords.iter().all(|v| v.is_finite()))
+        {
+            return Err(self.error(format!("point {i} of the cloud is not finite")));
+        }
+        Ok(cloud)
+    }
+}
+
+/// A registrar instance remembers the map size its last registration reported.
+pub struct RegistrarInstance {
+    pub inner: Instance,
+    map_size: usize,
+}
+
+impl From<Instance> for RegistrarInstance {
+    fn from(inner: Instance) -> Self {
+        Self { inner, map_size: 0 }
+    }
+}
+
+impl Registrar for RegistrarInstance {
+    fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
+        let inst = &mut self.inner;
+        let f = inst
+            .kind
+            .fns
+            .register_cloud
+            .ok_or_else(|| inst.error("no register_cloud function"))?;
+        let view = convert::cloud_view(cloud);
+        let mut out = KeyloRegistration {
+            stamp: cloud.timestamp,
+            translation: [0.0; 3],
+            rotation: [0.0, 0.0, 0.0, 1.0],
+            source_points: 0,
+            iterations: 0,
+            converged: false,
+            map_size: 0,
+        };
+        // SAFETY: a valid view of `cloud` and an output for the call.
+        inst.call("register_cloud", |s, e| unsafe { f(s, &view, &mut out, e) })?;
+        let reg = convert::registration_from_abi(&out).map_err(|m| inst.error(m))?;
+        self.map_size = out.map_size;
+        Ok(reg)
+    }
+
+    fn map_size(&self) -> usize {
+        self.map_size
+    }
+}
