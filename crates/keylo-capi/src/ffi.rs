@@ -224,14 +224,7 @@ unsafe fn frame_from(f: &KeyloFrameIn) -> Result<LidarFrame, CapiError> {
         valid: valid_raw.iter().map(|&v| v != 0).collect(),
         range,
         points,
-        beams: Arc::new(keylo::BeamGeometry {
-            model: String::new(),
-            altitude_deg: Vec::new(),
-            azimuth_deg: Vec::new(),
-            origin_to_beam_mm: 0.0,
-            columns_per_frame: cols,
-            frame_rate_hz: 0.0,
-        }),
+        beams: Arc::new(keylo::BeamGeometry::unknown("", cols)),
         index_map: None,
     })
 }

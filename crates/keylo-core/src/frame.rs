@@ -78,6 +78,21 @@ pub struct BeamGeometry {
     pub frame_rate_hz: f64,
 }
 
+impl BeamGeometry {
+    /// Geometry of a sensor whose beams are not known (frames handed in as plain grids):
+    /// no beam angles, `columns` per revolution, rate unknown (0).
+    pub fn unknown(model: impl Into<String>, columns: usize) -> Self {
+        Self {
+            model: model.into(),
+            altitude_deg: Vec::new(),
+            azimuth_deg: Vec::new(),
+            origin_to_beam_mm: 0.0,
+            columns_per_frame: columns,
+            frame_rate_hz: 0.0,
+        }
+    }
+}
+
 /// An organised frame: every channel is a row-major `rows × cols` grid.
 ///
 /// Pixel `(r, c)` is at index `r * cols + c`. Invalid pixels (no return) have `valid = false`,

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use keylo::kpeval::sweep::parse_interpolation;
-use keylo::kpeval::{evaluate, parse_combos, summarise, ComboSet, EvalOptions, METRICS};
+use keylo::kpeval::{evaluate, summarise, EvalOptions, METRICS};
 use keylo::BuildContext;
 
 use super::plots::{BoxPlot, BoxRow};
@@ -66,13 +66,14 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
         spec.image.interpolation = parse_interpolation(i)?;
     }
     let paper = args.paper.as_deref().map(PaperFigures::read).transpose()?;
-    let registry = input::registry(&args.input)?;
-    let set = ComboSet::parse(&args.input.combos);
-    let combos = parse_combos(&set, &registry).context("--combos")?;
-    let planes = input::planes(&args.input, &spec)?;
-    let jobs = jobs(args.input.jobs, threads)?;
+    let input::Prepared {
+        registry,
+        set,
+        combos,
+        planes,
+        jobs,
+    } = input::prepare(&args.input, &spec, threads)?;
     let out = &args.input.out;
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let bar = progress(quiet, "evaluating");
     let tick = |done: usize, total: usize| {
         bar.set_length(total as u64);

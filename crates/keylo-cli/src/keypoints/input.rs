@@ -26,6 +26,34 @@ pub fn spec(args: &InputArgs) -> Result<EvalSpec> {
     Ok(spec)
 }
 
+/// What both commands prepare before evaluating.
+pub struct Prepared {
+    pub registry: keylo::Registry,
+    pub set: keylo::kpeval::ComboSet,
+    pub combos: Vec<keylo::kpeval::Combo>,
+    pub planes: Vec<Plane>,
+    pub jobs: usize,
+}
+
+/// The registry (with plugins), the combinations, the images and the job count; creates
+/// `--out`.
+pub fn prepare(args: &InputArgs, spec: &EvalSpec, threads: Option<usize>) -> Result<Prepared> {
+    let registry = registry(args)?;
+    let set = keylo::kpeval::ComboSet::parse(&args.combos);
+    let combos = keylo::kpeval::parse_combos(&set, &registry).context("--combos")?;
+    let planes = planes(args, spec)?;
+    let jobs = super::eval::jobs(args.jobs, threads)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    Ok(Prepared {
+        registry,
+        set,
+        combos,
+        planes,
+        jobs,
+    })
+}
+
 /// keylo's registry with the plugins of the search path registered as `plugin:NAME` (only
 /// looked for when the combinations name a plugin or are `all`).
 pub fn registry(args: &InputArgs) -> Result<keylo::Registry> {

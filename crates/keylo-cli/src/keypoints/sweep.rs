@@ -4,15 +4,15 @@
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use keylo::kpeval::sweep::{
     interpolation_name, parse_interpolation, parse_sizes, run_sweep, CellResult, SweepGrid,
     SweepOptions,
 };
-use keylo::kpeval::{parse_combos, ComboSet, Metric, METRICS};
+use keylo::kpeval::{Metric, METRICS};
 use keylo::BuildContext;
 
-use super::eval::{jobs, progress, skip_notes};
+use super::eval::{progress, skip_notes};
 use super::plots::HeatMap;
 use super::{input, plots, SweepArgs};
 use crate::EXIT_FRAME_FAILED;
@@ -85,13 +85,14 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
         widths: parse_sizes(&args.widths, "--widths")?,
         heights: parse_sizes(&args.heights, "--heights")?,
     };
-    let registry = input::registry(&args.input)?;
-    let set = ComboSet::parse(&args.input.combos);
-    let combos = parse_combos(&set, &registry).context("--combos")?;
-    let planes = input::planes(&args.input, &spec)?;
-    let jobs = jobs(args.input.jobs, threads)?;
+    let input::Prepared {
+        registry,
+        set,
+        combos,
+        planes,
+        jobs,
+    } = input::prepare(&args.input, &spec, threads)?;
     let out = &args.input.out;
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let bar = progress(quiet, "sweeping");
     let tick = |done: usize, total: usize, resumed: usize| {
         bar.set_length(total as u64);

@@ -84,14 +84,7 @@ pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, String> {
             .collect(),
         // SAFETY: the caller guarantees the buffer holds the documented values.
         valid: unsafe { copy_slice(f.valid, n, "valid") }?,
-        beams: Arc::new(BeamGeometry {
-            model: "unknown (plugin ABI v1)".into(),
-            altitude_deg: Vec::new(),
-            azimuth_deg: Vec::new(),
-            origin_to_beam_mm: 0.0,
-            columns_per_frame: cols,
-            frame_rate_hz: 0.0,
-        }),
+        beams: Arc::new(BeamGeometry::unknown("unknown (plugin ABI v1)", cols)),
         index_map: None,
     })
 }
