@@ -49,6 +49,14 @@ impl KpEvalError {
         }
     }
 
+    pub(crate) fn stage(combo: &str, stage: &str, source: keylo_core::CoreError) -> Self {
+        Self::Stage {
+            combo: combo.into(),
+            stage: stage.into(),
+            source: Box::new(source),
+        }
+    }
+
     pub(crate) fn setting(origin: &str, key: &str, message: impl Into<String>) -> Self {
         Self::Setting {
             origin: origin.into(),

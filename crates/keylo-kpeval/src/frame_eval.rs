@@ -33,15 +33,6 @@ fn ms(start: Instant) -> f64 {
     start.elapsed().as_secs_f64() * 1e3
 }
 
-fn detector_error(group: &Group) -> impl Fn(keylo_core::CoreError) -> KpEvalError {
-    let combo = group.detector_name.clone();
-    move |e| KpEvalError::Stage {
-        combo: combo.clone(),
-        stage: "detector".into(),
-        source: Box::new(e),
-    }
-}
-
 /// Detection-only figures of one image (shared by every combination of the detector).
 struct Detection {
     keypoints: Vec<Keypoint>,
@@ -57,7 +48,8 @@ fn detect_all(
     image: &Image,
     p: &MetricParams,
 ) -> Result<Detection, KpEvalError> {
-    let err = detector_error(group);
+    let name = group.detector_name.clone();
+    let err = |e| KpEvalError::stage(&name, "detector", e);
     let start = Instant::now();
     let keypoints = group.detector.detect(image).map_err(&err)?;
     let detect_ms = ms(start);
@@ -139,15 +131,8 @@ pub fn evaluate_image(
     let det = detect_all(group, image, p)?;
     let mut rows = Vec::with_capacity(group.combos.len());
     for (ci, (combo, describer)) in group.combos.iter_mut().enumerate() {
-        let err = |stage: &str| {
-            let name = combo.name.clone();
-            let stage = stage.to_string();
-            move |e| KpEvalError::Stage {
-                combo: name.clone(),
-                stage: stage.clone(),
-                source: Box::new(e),
-            }
-        };
+        let name = combo.name.as_str();
+        let err = |stage: &'static str| move |e| KpEvalError::stage(name, stage, e);
         let start = Instant::now();
         let (keypoints, descriptors, detect_ms, describe_ms) = match describer {
             Describer::OwnPass => {

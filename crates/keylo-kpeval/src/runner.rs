@@ -48,12 +48,7 @@ pub fn evaluate(
     ctx: &BuildContext,
     opts: &EvalOptions,
 ) -> Result<EvalResult, KpEvalError> {
-    if planes.len() < 2 {
-        return Err(KpEvalError::Input(format!(
-            "{} image(s): the match metrics need at least 2 consecutive images",
-            planes.len()
-        )));
-    }
+    check_planes(planes)?;
     let start = Instant::now();
     let size = output_size(planes, spec);
     let (groups, skipped) = build_groups(combos, spec, registry, ctx, size, opts.skip_unavailable)?;
@@ -95,6 +90,17 @@ pub fn evaluate(
     Ok(result)
 }
 
+/// The match metrics need a previous image: at least two.
+pub(crate) fn check_planes(planes: &[Plane]) -> Result<(), KpEvalError> {
+    if planes.len() < 2 {
+        return Err(KpEvalError::Input(format!(
+            "{} image(s): the match metrics need at least 2 consecutive images",
+            planes.len()
+        )));
+    }
+    Ok(())
+}
+
 /// The evaluated image size: `[image]`'s, 0 standing for the first image's own.
 fn output_size(planes: &[Plane], spec: &EvalSpec) -> (usize, usize) {
     let first = planes.first().map_or((0, 0), |p| (p.cols, p.rows));
@@ -114,10 +120,7 @@ pub(crate) fn run_group(
 ) -> GroupOutcome {
     let mut state = GroupState::new(&group);
     let mut rows = Vec::new();
-    let interpolation = serde_json::to_value(spec.image.interpolation)
-        .ok()
-        .and_then(|v| v.as_str().map(String::from))
-        .unwrap_or_default();
+    let interpolation = crate::sweep::interpolation_name(spec.image.interpolation);
     let channel = spec.image.channel().unwrap_or(keylo_core::Channel::Signal);
     for (index, plane) in planes.iter().enumerate() {
         let outcome = plane

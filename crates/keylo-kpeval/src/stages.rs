@@ -67,11 +67,7 @@ pub fn build_groups(
             skipped.push((combo.name.clone(), e.to_string()));
             Ok(())
         } else {
-            Err(KpEvalError::Stage {
-                combo: combo.name.clone(),
-                stage: stage.into(),
-                source: Box::new(e),
-            })
+            Err(KpEvalError::stage(&combo.name, stage, e))
         }
     };
     for combo in combos {

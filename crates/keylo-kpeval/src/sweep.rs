@@ -149,19 +149,7 @@ impl CellResult {
     pub fn mean(&self, key: &str) -> Option<f64> {
         self.means.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
     }
-}
 
-/// The header of the sweep CSV.
-pub fn csv_header() -> String {
-    let mut h = String::from("interpolation,width,height,combo,images");
-    for m in METRICS {
-        h.push(',');
-        h.push_str(m.key);
-    }
-    h
-}
-
-impl CellResult {
     fn csv(&self) -> String {
         let mut line = format!(
             "{},{},{},{},{}",
@@ -195,6 +183,16 @@ impl CellResult {
             means,
         })
     }
+}
+
+/// The header of the sweep CSV.
+pub fn csv_header() -> String {
+    let mut h = String::from("interpolation,width,height,combo,images");
+    for m in METRICS {
+        h.push(',');
+        h.push_str(m.key);
+    }
+    h
 }
 
 /// Results found in an earlier sweep's CSV (a missing file: none). A file with another
@@ -261,12 +259,7 @@ pub fn run_sweep(
     ctx: &BuildContext,
     opts: &SweepOptions,
 ) -> Result<SweepResult, KpEvalError> {
-    if planes.len() < 2 {
-        return Err(KpEvalError::Input(format!(
-            "{} image(s): the match metrics need at least 2 consecutive images",
-            planes.len()
-        )));
-    }
+    crate::runner::check_planes(planes)?;
     let start = Instant::now();
     let earlier = read_store(&opts.store)?;
     let done: BTreeSet<((String, usize, usize), String)> = earlier

@@ -195,7 +195,7 @@ fn a_sweep_resumes_from_its_csv_and_gives_the_same_results() {
         progress: None,
     };
     let spec = EvalSpec::default();
-    let go = || {
+    let sweep = || {
         run_sweep(
             &planes,
             &combos,
@@ -205,8 +205,8 @@ fn a_sweep_resumes_from_its_csv_and_gives_the_same_results() {
             &BuildContext::default(),
             &opts,
         )
-        .unwrap()
     };
+    let go = || sweep().unwrap();
     let first = go();
     assert!(first.failed.is_empty(), "{:?}", first.failed);
     assert_eq!(first.results.len(), 4 * 2);
@@ -237,17 +237,7 @@ fn a_sweep_resumes_from_its_csv_and_gives_the_same_results() {
     assert_eq!(key(&first.results), key(&again.results));
     // A CSV of something else is refused, not mixed with.
     std::fs::write(&opts.store, "a,b,c\n1,2,3\n").unwrap();
-    let e = run_sweep(
-        &planes,
-        &combos,
-        &spec,
-        &grid,
-        &r,
-        &BuildContext::default(),
-        &opts,
-    )
-    .unwrap_err()
-    .to_string();
+    let e = sweep().unwrap_err().to_string();
     assert!(e.contains("sweep.csv") && e.contains("header"), "{e}");
 }
 

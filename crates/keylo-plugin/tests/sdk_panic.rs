@@ -84,16 +84,21 @@ fn a_panic_in_detect_becomes_an_error_naming_the_plugin() {
     assert!(det.detect(&image).is_err());
 }
 
-#[test]
-fn a_panic_in_configure_becomes_an_error() {
+/// The error of building the `panicky` detector with `params` (empty when it builds).
+fn build_error(params: &str) -> String {
     let (registry, _) = registry();
     let factory = registry.detectors.get("plugin:panicky").unwrap();
-    let params: toml::Table = "panic_in_configure = true".parse().unwrap();
-    let e = factory
+    let params: toml::Table = params.parse().unwrap();
+    factory
         .build(&params, &Default::default())
         .err()
         .map(|e| e.to_string())
-        .unwrap_or_default();
+        .unwrap_or_default()
+}
+
+#[test]
+fn a_panic_in_configure_becomes_an_error() {
+    let e = build_error("panic_in_configure = true");
     assert!(
         e.contains("configure panicked") && e.contains("configure exploded"),
         "{e}"
@@ -102,14 +107,7 @@ fn a_panic_in_configure_becomes_an_error() {
 
 #[test]
 fn unknown_parameters_are_rejected_by_the_sdk() {
-    let (registry, _) = registry();
-    let factory = registry.detectors.get("plugin:panicky").unwrap();
-    let params: toml::Table = "nope = 1".parse().unwrap();
-    let e = factory
-        .build(&params, &Default::default())
-        .err()
-        .map(|e| e.to_string())
-        .unwrap_or_default();
+    let e = build_error("nope = 1");
     assert!(
         e.contains("configuration rejected") && e.contains("nope"),
         "{e}"

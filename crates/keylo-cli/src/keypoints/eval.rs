@@ -14,17 +14,6 @@ use super::report::{self, PaperFigures};
 use super::{input, plots, EvalArgs};
 use crate::EXIT_FRAME_FAILED;
 
-/// Jobs: `--jobs`, else `--threads`, else one per core.
-pub fn jobs(asked: Option<usize>, threads: Option<usize>) -> Result<usize> {
-    let n = asked.or(threads).unwrap_or_else(|| {
-        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
-    });
-    if n == 0 {
-        anyhow::bail!("--jobs 0: expected at least 1");
-    }
-    Ok(n)
-}
-
 /// A progress bar with an ETA (hidden when quiet).
 pub fn progress(quiet: bool, what: &str) -> ProgressBar {
     if quiet {

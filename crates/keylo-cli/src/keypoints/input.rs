@@ -42,7 +42,7 @@ pub fn prepare(args: &InputArgs, spec: &EvalSpec, threads: Option<usize>) -> Res
     let set = keylo::kpeval::ComboSet::parse(&args.combos);
     let combos = keylo::kpeval::parse_combos(&set, &registry).context("--combos")?;
     let planes = planes(args, spec)?;
-    let jobs = super::eval::jobs(args.jobs, threads)?;
+    let jobs = jobs(args.jobs, threads)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     Ok(Prepared {
@@ -52,6 +52,17 @@ pub fn prepare(args: &InputArgs, spec: &EvalSpec, threads: Option<usize>) -> Res
         planes,
         jobs,
     })
+}
+
+/// Jobs: `--jobs`, else `--threads`, else one per core.
+fn jobs(asked: Option<usize>, threads: Option<usize>) -> Result<usize> {
+    let n = asked.or(threads).unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    });
+    if n == 0 {
+        bail!("--jobs 0: expected at least 1");
+    }
+    Ok(n)
 }
 
 /// keylo's registry with the plugins of the search path registered as `plugin:NAME` (only
