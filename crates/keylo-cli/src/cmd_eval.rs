@@ -35,6 +35,9 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
         "  APE rot RMSE (deg)           {:>12.4}",
         acc.ate_rot_rmse_deg
     );
+    if acc.alignment_roll_from_orientations {
+        println!("  (nearly straight path: the alignment's roll about it is taken from the orientations)");
+    }
     println!(
         "  RPE trans RMSE (m/frame)     {:>12.4}",
         acc.rpe_trans_rmse_m

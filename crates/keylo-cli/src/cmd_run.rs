@@ -165,6 +165,7 @@ fn process_all(
                     keypoints: r.keypoints,
                     cloud_points: r.cloud_points,
                     registered_points: r.registered_points,
+                    map_points: r.map_points,
                     odometry_ms: 1e3 * seconds,
                     rss_mb: resources::rss_mb(),
                 });

@@ -140,6 +140,8 @@ pub struct FrameRow {
     pub keypoints: usize,
     pub cloud_points: usize,
     pub registered_points: usize,
+    /// Points in the registrar's local map after the frame.
+    pub map_points: usize,
     /// Milliseconds of the odometry stages for this frame (source reading excluded).
     pub odometry_ms: f64,
     /// Resident set size after the frame, MB (`None` off Linux).
@@ -148,7 +150,7 @@ pub struct FrameRow {
 
 /// Header of `frames.csv`.
 pub const FRAMES_CSV_HEADER: &str =
-    "frame,stamp,keypoints,cloud_points,registered_points,odometry_ms,rss_mb";
+    "frame,stamp,keypoints,cloud_points,registered_points,map_points,odometry_ms,rss_mb";
 
 /// Writes `frames.csv`: one line per registered frame.
 pub fn write_frames(dir: &Path, rows: &[FrameRow]) -> Result<()> {
@@ -158,8 +160,14 @@ pub fn write_frames(dir: &Path, rows: &[FrameRow]) -> Result<()> {
     for r in rows {
         let rss = r.rss_mb.map_or(String::new(), |v| format!("{v:.1}"));
         text.push_str(&format!(
-            "{},{:.6},{},{},{},{:.3},{rss}\n",
-            r.frame, r.stamp, r.keypoints, r.cloud_points, r.registered_points, r.odometry_ms
+            "{},{:.6},{},{},{},{},{:.3},{rss}\n",
+            r.frame,
+            r.stamp,
+            r.keypoints,
+            r.cloud_points,
+            r.registered_points,
+            r.map_points,
+            r.odometry_ms
         ));
     }
     let p = dir.join("frames.csv");

@@ -14,16 +14,26 @@ pub struct Alignment {
     pub translation: Vector3<f64>,
     /// Scale factor (1 unless Sim(3) alignment was asked for).
     pub scale: f64,
+    /// The rotation about the path's main axis was taken from the orientations, because the
+    /// positions leave it undetermined (a nearly straight path; see [`crate::align_roll`]).
+    /// Always `false` for a point-set alignment ([`umeyama`]).
+    pub roll_from_orientations: bool,
 }
 
 impl Alignment {
+    /// `scale · rotation · x + translation`, found from positions alone.
+    pub fn new(rotation: UnitQuaternion<f64>, translation: Vector3<f64>, scale: f64) -> Self {
+        Self {
+            rotation,
+            translation,
+            scale,
+            roll_from_orientations: false,
+        }
+    }
+
     /// The identity alignment.
     pub fn identity() -> Self {
-        Self {
-            rotation: UnitQuaternion::identity(),
-            translation: Vector3::zeros(),
-            scale: 1.0,
-        }
+        Self::new(UnitQuaternion::identity(), Vector3::zeros(), 1.0)
     }
 
     /// The rigid part `(rotation, translation)`, ignoring the scale.
@@ -77,33 +87,97 @@ pub fn umeyama(
     y: &[Point3<f64>],
     with_scale: bool,
 ) -> Result<Alignment, EvalError> {
-    check_sizes(x, y)?;
-    let (mean_x, mean_y) = (centroid(x), centroid(y));
-    let n = x.len() as f64;
-    let sigma_x = x.iter().map(|p| (p - mean_x).norm_squared()).sum::<f64>() / n;
-    let cov = covariance(x, y, &mean_x, &mean_y) / n;
-    let svd = cov.svd(true, true);
-    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
-        return Err(EvalError::Degenerate { rank: 0 });
-    };
-    let d = svd.singular_values;
-    let rank = d.iter().filter(|&&s| s > f64::EPSILON).count();
-    if rank < 2 {
-        return Err(EvalError::Degenerate { rank });
+    let fit = Fit::new(x, y, with_scale)?;
+    if fit.rank < 2 {
+        return Err(EvalError::Degenerate { rank: fit.rank });
     }
-    let mut s = Vector3::new(1.0, 1.0, 1.0);
-    if u.determinant() * v_t.determinant() < 0.0 {
-        s.z = -1.0;
+    Ok(fit.alignment(fit.rotation))
+}
+
+/// The pieces of an Umeyama fit that a later choice of rotation needs.
+pub(crate) struct Fit {
+    /// Number of point pairs.
+    pub n: usize,
+    /// Centroid of `x`.
+    pub mean_x: Point3<f64>,
+    /// Centroid of `y`.
+    pub mean_y: Point3<f64>,
+    /// Mean squared distance of `x` from its centroid.
+    pub sigma_x: f64,
+    /// Mean squared distance of `y` from its centroid.
+    pub sigma_y: f64,
+    /// The cross-covariance `(1/n) Σᵢ (yᵢ−μy)(xᵢ−μx)ᵀ`.
+    pub cov: Matrix3<f64>,
+    /// Its singular values, largest first.
+    pub d: Vector3<f64>,
+    /// Its left singular vectors (columns), in the order of `d`.
+    pub u: Matrix3<f64>,
+    /// `diag(s)` of the reflection guard.
+    pub s: Vector3<f64>,
+    /// Singular values above machine epsilon.
+    pub rank: usize,
+    /// Umeyama's rotation `U S Vᵀ`.
+    pub rotation: Matrix3<f64>,
+    /// Whether the scale is fitted (Sim(3)).
+    pub with_scale: bool,
+}
+
+impl Fit {
+    /// Centres, correlates and decomposes the pairs; fails only when no singular value is
+    /// above machine epsilon (all points coincide).
+    pub fn new(x: &[Point3<f64>], y: &[Point3<f64>], with_scale: bool) -> Result<Self, EvalError> {
+        check_sizes(x, y)?;
+        let (mean_x, mean_y) = (centroid(x), centroid(y));
+        let n = x.len() as f64;
+        let sigma_x = x.iter().map(|p| (p - mean_x).norm_squared()).sum::<f64>() / n;
+        let sigma_y = y.iter().map(|p| (p - mean_y).norm_squared()).sum::<f64>() / n;
+        let cov = covariance(x, y, &mean_x, &mean_y) / n;
+        let svd = cov.svd(true, true);
+        let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
+            return Err(EvalError::Degenerate { rank: 0 });
+        };
+        let d = svd.singular_values;
+        let rank = d.iter().filter(|&&s| s > f64::EPSILON).count();
+        if rank == 0 {
+            return Err(EvalError::Degenerate { rank });
+        }
+        let mut s = Vector3::new(1.0, 1.0, 1.0);
+        if u.determinant() * v_t.determinant() < 0.0 {
+            s.z = -1.0;
+        }
+        let rotation = u * Matrix3::from_diagonal(&s) * v_t;
+        Ok(Self {
+            n: x.len(),
+            mean_x,
+            mean_y,
+            sigma_x,
+            sigma_y,
+            cov,
+            d,
+            u,
+            s,
+            rank,
+            rotation,
+            with_scale,
+        })
     }
-    let r = u * Matrix3::from_diagonal(&s) * v_t;
-    let scale = if with_scale { d.dot(&s) / sigma_x } else { 1.0 };
-    let translation = mean_y.coords - scale * (r * mean_x.coords);
-    let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r));
-    Ok(Alignment {
-        rotation,
-        translation,
-        scale,
-    })
+
+    /// The scale that is optimal for rotation `r`: `tr(Rᵀ Σ) / σx²` (1 without scale).
+    pub fn scale_for(&self, r: &Matrix3<f64>) -> f64 {
+        if self.with_scale {
+            (r.transpose() * self.cov).trace() / self.sigma_x
+        } else {
+            1.0
+        }
+    }
+
+    /// The alignment with rotation `r`, its optimal scale and translation.
+    pub fn alignment(&self, r: Matrix3<f64>) -> Alignment {
+        let scale = self.scale_for(&r);
+        let translation = self.mean_y.coords - scale * (r * self.mean_x.coords);
+        let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r));
+        Alignment::new(rotation, translation, scale)
+    }
 }
 
 fn check_sizes(x: &[Point3<f64>], y: &[Point3<f64>]) -> Result<(), EvalError> {
@@ -148,12 +222,19 @@ pub fn positions(traj: &Trajectory) -> Vec<Point3<f64>> {
 
 /// Umeyama alignment of `estimate`'s positions onto `reference`'s (pose-for-pose paired),
 /// as evo's `traj_est.align(traj_ref)`; apply it with [`Alignment::apply_trajectory`].
+///
+/// One difference from evo: when the positions leave the rotation about the path's main
+/// axis undetermined (a straight or nearly straight path), that rotation is taken from the
+/// orientations instead of from the positions' noise ([`crate::align_roll`]), and
+/// [`Alignment::roll_from_orientations`] says so. Wherever the positions determine the
+/// rotation the result is evo's.
 pub fn align_trajectory(
     estimate: &Trajectory,
     reference: &Trajectory,
     with_scale: bool,
 ) -> Result<Alignment, EvalError> {
-    umeyama(&positions(estimate), &positions(reference), with_scale)
+    let fit = Fit::new(&positions(estimate), &positions(reference), with_scale)?;
+    crate::align_roll::resolve(&fit, estimate, reference)
 }
 
 #[cfg(test)]
@@ -175,11 +256,11 @@ mod tests {
     #[test]
     fn recovers_similarity() {
         let x = cube();
-        let truth = Alignment {
-            rotation: UnitQuaternion::from_euler_angles(-0.4, 0.9, 2.5),
-            translation: Vector3::new(-3.0, 4.0, 0.5),
-            scale: 1.7,
-        };
+        let truth = Alignment::new(
+            UnitQuaternion::from_euler_angles(-0.4, 0.9, 2.5),
+            Vector3::new(-3.0, 4.0, 0.5),
+            1.7,
+        );
         let y: Vec<_> = x.iter().map(|p| truth.transform_point(p)).collect();
         let a = umeyama(&x, &y, true).unwrap();
         assert!(a.rotation.angle_to(&truth.rotation) < 1e-12);
@@ -214,11 +295,7 @@ mod tests {
 
     #[test]
     fn apply_scales_translation_then_moves() {
-        let a = Alignment {
-            rotation: UnitQuaternion::identity(),
-            translation: Vector3::new(1.0, 0.0, 0.0),
-            scale: 2.0,
-        };
+        let a = Alignment::new(UnitQuaternion::identity(), Vector3::new(1.0, 0.0, 0.0), 2.0);
         let p = a.apply(&Pose::translation(1.0, 1.0, 1.0));
         assert_eq!(p.translation.vector, Vector3::new(3.0, 2.0, 2.0));
     }

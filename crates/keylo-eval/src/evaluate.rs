@@ -50,6 +50,9 @@ pub struct Accuracy {
     pub ate_mean_m: f64,
     /// APE rotation: RMSE of the aligned rotation angle errors, degrees.
     pub ate_rot_rmse_deg: f64,
+    /// The path is (nearly) straight, so the alignment's rotation about its axis came from
+    /// the orientations, not the positions ([`crate::align_roll`]).
+    pub alignment_roll_from_orientations: bool,
     /// RPE translation RMSE, metres per `rpe_delta_frames` frames (`evo_rpe`).
     pub rpe_trans_rmse_m: f64,
     /// RPE rotation RMSE, degrees per `rpe_delta_frames` frames.
@@ -111,6 +114,7 @@ pub fn evaluate(
         ate_rmse_m: ate.translation.rmse,
         ate_mean_m: ate.translation.mean,
         ate_rot_rmse_deg: ate.rotation_deg.rmse,
+        alignment_roll_from_orientations: ate.alignment.roll_from_orientations,
         rpe_trans_rmse_m: rel.translation.rmse,
         rpe_rot_rmse_deg: rel.rotation_deg.rmse,
         drift_pct: drift.as_ref().map(|d| d.translation_pct),

@@ -13,6 +13,7 @@
 #![warn(missing_docs)]
 
 pub mod align;
+pub mod align_roll;
 pub mod ape;
 pub mod associate;
 pub mod drift;

@@ -14,10 +14,12 @@ fn similarity(scale: f64) -> impl Strategy<Value = Alignment> {
         prop::array::uniform3(-3.0..3.0f64),
         prop::array::uniform3(-50.0..50.0f64),
     )
-        .prop_map(move |(r, t)| Alignment {
-            rotation: UnitQuaternion::from_scaled_axis(Vector3::from(r)),
-            translation: Vector3::from(t),
-            scale,
+        .prop_map(move |(r, t)| {
+            Alignment::new(
+                UnitQuaternion::from_scaled_axis(Vector3::from(r)),
+                Vector3::from(t),
+                scale,
+            )
         })
 }
 
@@ -56,7 +58,7 @@ proptest! {
     #[test]
     fn similarity_scale_is_recovered(x in points(), scale in 0.2..5.0f64, r in prop::array::uniform3(-3.0..3.0f64)) {
         prop_assume!(well_spread(&x));
-        let truth = Alignment { rotation: UnitQuaternion::from_scaled_axis(Vector3::from(r)), translation: Vector3::new(1.0, -2.0, 3.0), scale };
+        let truth = Alignment::new(UnitQuaternion::from_scaled_axis(Vector3::from(r)), Vector3::new(1.0, -2.0, 3.0), scale);
         let y: Vec<_> = x.iter().map(|p| truth.transform_point(p)).collect();
         let a = umeyama(&x, &y, true).unwrap();
         prop_assert!((a.scale - scale).abs() < 1e-9 * scale);

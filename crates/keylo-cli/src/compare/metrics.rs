@@ -287,17 +287,22 @@ fn read_frames(path: &Path, series: &mut Series) {
     let Ok(text) = std::fs::read_to_string(path) else {
         return;
     };
-    for line in text.lines().skip(1) {
+    let mut lines = text.lines();
+    // Columns by name, so files of older layouts (without `map_points`) still read.
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name);
+    let (points, ms, rss) = (col("cloud_points"), col("odometry_ms"), col("rss_mb"));
+    for line in lines {
         let cols: Vec<&str> = line.split(',').collect();
-        let num = |i: usize| cols.get(i).and_then(|v| v.parse::<f64>().ok());
-        let Some(frame) = num(0) else { continue };
-        if let Some(p) = num(3) {
+        let num = |i: Option<usize>| i.and_then(|i| cols.get(i)?.parse::<f64>().ok());
+        let Some(frame) = num(Some(0)) else { continue };
+        if let Some(p) = num(points) {
             series.points.push((frame, p));
         }
-        if let Some(ms) = num(5).filter(|ms| *ms > 0.0) {
+        if let Some(ms) = num(ms).filter(|ms| *ms > 0.0) {
             series.rate.push((frame, 1e3 / ms));
         }
-        if let Some(r) = num(6) {
+        if let Some(r) = num(rss) {
             series.rss.push((frame, r));
         }
     }

@@ -111,6 +111,11 @@ pub fn markdown(rows: &[Row], crit: &Criterion) -> String {
     md.push_str("\n## Every run\n\n");
     md.push_str(&full_table(rows));
     let _ = write!(md, "\nDivergence criterion: {}.\n", crit.describe());
+    md.push_str(
+        "Errors are after SE(3) Umeyama alignment of the positions (as `evo_ape -a`); on a \
+         nearly straight path the alignment's rotation about the path axis is taken from the \
+         orientations instead (keylo-eval `align_roll`).\n",
+    );
     md
 }
 

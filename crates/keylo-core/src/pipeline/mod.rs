@@ -43,6 +43,8 @@ pub struct FrameResult {
     pub cloud_points: usize,
     /// Points the registrar used after its own preprocessing.
     pub registered_points: usize,
+    /// Points in the registrar's local map after this frame.
+    pub map_points: usize,
     pub iterations: usize,
     pub converged: bool,
     pub timings: StageTimings,
@@ -176,6 +178,7 @@ impl Odometry {
             keypoints: features.keypoint_count(),
             cloud_points,
             registered_points: reg.source_points,
+            map_points: self.registrar.map_size(),
             iterations: reg.iterations,
             converged: reg.converged,
             timings,
