@@ -8,9 +8,10 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use keylo::config::{OnBadFrame, PipelineConfig};
-use keylo::{CoreError, Pipeline, Trajectory};
+use keylo::{CoreError, FrameResult, LidarFrame, Pipeline, Trajectory};
 
 use crate::args::RunArgs;
+use crate::journal::Journal;
 use crate::report::{self, Failure, Summary, Totals};
 use crate::{configs, resources, trajectories, EXIT_FRAME_FAILED, EXIT_INTERRUPTED};
 
@@ -45,7 +46,14 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let cpu0 = resources::cpu_seconds();
     let start = Instant::now();
     let mut outcome = RunState::default();
-    process_all(&mut pipeline, &config, &progress, &mut outcome);
+    let mut journal = Journal::create(&out, config.output.tum, config.output.kitti)?;
+    process_all(
+        &mut pipeline,
+        &config,
+        &progress,
+        &mut journal,
+        &mut outcome,
+    );
     progress.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
 
@@ -74,14 +82,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     });
     add_accuracy(&mut summary, &outcome.trajectory, gt);
     // summary.json comes last: `keylo compare` takes it as the mark of a finished run.
-    report::write_frames(&out, &outcome.per_frame)?;
-    report::write_outputs(
-        &out,
-        &outcome.trajectory,
-        config.output.tum,
-        config.output.kitti,
-        &summary,
-    )?;
+    report::write_summary(&out, &summary)?;
 
     if !quiet {
         println!("keylo run — {} → {}", summary.source, out.display());
@@ -112,7 +113,6 @@ struct RunState {
     skipped: usize,
     failure: Option<Failure>,
     interrupted: bool,
-    per_frame: Vec<report::FrameRow>,
 }
 
 /// Set by Ctrl-C or SIGTERM: the run stops after the current frame and writes what it has.
@@ -122,6 +122,7 @@ fn process_all(
     pipeline: &mut Pipeline,
     config: &PipelineConfig,
     progress: &ProgressBar,
+    journal: &mut Journal,
     st: &mut RunState,
 ) {
     if let Err(e) = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst)) {
@@ -151,7 +152,7 @@ fn process_all(
         };
         next = frame.index + 1;
         let t = Instant::now();
-        let result = pipeline.odometry.process(&frame);
+        let result = process_guarded(pipeline, &frame);
         let seconds = t.elapsed().as_secs_f64();
         st.totals.odometry_seconds += seconds;
         progress.inc(1);
@@ -159,7 +160,7 @@ fn process_all(
             Ok(r) => {
                 st.trajectory.push(r.stamp, r.pose);
                 st.totals.add(&r);
-                st.per_frame.push(report::FrameRow {
+                let row = report::FrameRow {
                     frame: frame.index,
                     stamp: r.stamp,
                     keypoints: r.keypoints,
@@ -168,7 +169,14 @@ fn process_all(
                     map_points: r.map_points,
                     odometry_ms: 1e3 * seconds,
                     rss_mb: resources::rss_mb(),
-                });
+                };
+                if let Err(e) = journal.record(r.stamp, &r.pose, &row) {
+                    st.failure = Some(Failure {
+                        frame: frame.index,
+                        error: crate::error_chain(&e),
+                    });
+                    break;
+                }
             }
             Err(e @ CoreError::BadFrame { .. })
                 if config.output.on_bad_frame == OnBadFrame::Skip =>
@@ -185,6 +193,26 @@ fn process_all(
             }
         }
     }
+}
+
+/// Runs one frame; a panic in a stage (a bug, in keylo or a plugin) becomes this frame's
+/// failure, so the frames done so far are still written and the exit status says so.
+fn process_guarded(pipeline: &mut Pipeline, frame: &LidarFrame) -> Result<FrameResult, CoreError> {
+    let run = std::panic::AssertUnwindSafe(|| pipeline.odometry.process(frame));
+    std::panic::catch_unwind(run).unwrap_or_else(|payload| {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into());
+        Err(CoreError::Stage {
+            stage: "pipeline".into(),
+            message: format!(
+                "frame {}: internal error (a stage panicked: {what}); please report it",
+                frame.index
+            ),
+        })
+    })
 }
 
 fn output_dir(args: &RunArgs, config: &PipelineConfig) -> Result<PathBuf> {

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use keylo::eval::Accuracy;
-use keylo::{FrameResult, StageTimings, Trajectory};
+use keylo::{FrameResult, StageTimings};
 use serde::Serialize;
 
 /// Mean milliseconds per frame spent in each stage.
@@ -109,23 +109,8 @@ impl Totals {
     }
 }
 
-/// Writes the trajectory files the config asks for, and `summary.json`.
-pub fn write_outputs(
-    dir: &Path,
-    traj: &Trajectory,
-    tum: bool,
-    kitti: bool,
-    summary: &Summary,
-) -> Result<()> {
-    if tum {
-        let p = dir.join("trajectory.tum");
-        keylo::eval::io::write_tum(&p, traj).with_context(|| format!("writing {}", p.display()))?;
-    }
-    if kitti {
-        let p = dir.join("trajectory.kitti");
-        keylo::eval::io::write_kitti(&p, traj)
-            .with_context(|| format!("writing {}", p.display()))?;
-    }
+/// Writes `summary.json` (the per-frame files are written as the run goes: `journal`).
+pub fn write_summary(dir: &Path, summary: &Summary) -> Result<()> {
     let p = dir.join("summary.json");
     let text = serde_json::to_string_pretty(summary)?;
     std::fs::write(&p, text).with_context(|| format!("writing {}", p.display()))?;
@@ -152,27 +137,21 @@ pub struct FrameRow {
 pub const FRAMES_CSV_HEADER: &str =
     "frame,stamp,keypoints,cloud_points,registered_points,map_points,odometry_ms,rss_mb";
 
-/// Writes `frames.csv`: one line per registered frame.
-pub fn write_frames(dir: &Path, rows: &[FrameRow]) -> Result<()> {
-    let mut text = String::with_capacity(64 * (rows.len() + 1));
-    text.push_str(FRAMES_CSV_HEADER);
-    text.push('\n');
-    for r in rows {
-        let rss = r.rss_mb.map_or(String::new(), |v| format!("{v:.1}"));
-        text.push_str(&format!(
+impl FrameRow {
+    /// This frame's line of `frames.csv` (with its newline).
+    pub fn csv_line(&self) -> String {
+        let rss = self.rss_mb.map_or(String::new(), |v| format!("{v:.1}"));
+        format!(
             "{},{:.6},{},{},{},{},{:.3},{rss}\n",
-            r.frame,
-            r.stamp,
-            r.keypoints,
-            r.cloud_points,
-            r.registered_points,
-            r.map_points,
-            r.odometry_ms
-        ));
+            self.frame,
+            self.stamp,
+            self.keypoints,
+            self.cloud_points,
+            self.registered_points,
+            self.map_points,
+            self.odometry_ms
+        )
     }
-    let p = dir.join("frames.csv");
-    std::fs::write(&p, text).with_context(|| format!("writing {}", p.display()))?;
-    Ok(())
 }
 
 /// The human-readable result table.

@@ -1,6 +1,5 @@
 //! KITTI odometry pose format: 12 numbers per line, the row-major 3x4 matrix `[R|t]`.
 
-use std::fmt::Write as _;
 use std::path::Path;
 
 use keylo_core::{Pose, Trajectory};
@@ -84,18 +83,21 @@ pub fn read_kitti_with_times(
 
 /// Formats a trajectory as KITTI text (12 significant digits; stamps are dropped).
 pub fn format_kitti(traj: &Trajectory) -> String {
-    let mut out = String::new();
-    for pose in &traj.poses {
-        let r = pose.rotation.to_rotation_matrix().into_inner();
-        let t = pose.translation.vector;
-        let mut fields = Vec::with_capacity(KITTI_COLUMNS);
-        for row in 0..3 {
-            fields.extend((0..3).map(|col| format!("{:.12e}", r[(row, col)])));
-            fields.push(format!("{:.12e}", t[row]));
-        }
-        let _ = writeln!(out, "{}", fields.join(" "));
+    traj.poses.iter().map(format_kitti_line).collect()
+}
+
+/// One KITTI line (with its newline), as [`format_kitti`] writes it.
+pub fn format_kitti_line(pose: &Pose) -> String {
+    let r = pose.rotation.to_rotation_matrix().into_inner();
+    let t = pose.translation.vector;
+    let mut fields = Vec::with_capacity(KITTI_COLUMNS);
+    for row in 0..3 {
+        fields.extend((0..3).map(|col| format!("{:.12e}", r[(row, col)])));
+        fields.push(format!("{:.12e}", t[row]));
     }
-    out
+    let mut line = fields.join(" ");
+    line.push('\n');
+    line
 }
 
 /// Writes a trajectory as a KITTI pose file (stamps are dropped).

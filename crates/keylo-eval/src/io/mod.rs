@@ -14,10 +14,10 @@ use std::path::Path;
 use keylo_core::Trajectory;
 
 pub use kitti::{
-    format_kitti, parse_kitti, parse_kitti_with_times, read_kitti, read_kitti_with_times,
-    write_kitti, KITTI_COLUMNS,
+    format_kitti, format_kitti_line, parse_kitti, parse_kitti_with_times, read_kitti,
+    read_kitti_with_times, write_kitti, KITTI_COLUMNS,
 };
-pub use tum::{format_tum, parse_tum, read_tum, write_tum, TUM_COLUMNS};
+pub use tum::{format_tum, format_tum_line, parse_tum, read_tum, write_tum, TUM_COLUMNS};
 
 use crate::EvalError;
 

@@ -1,6 +1,5 @@
 //! TUM RGB-D trajectory format: `t tx ty tz qx qy qz qw` per line.
 
-use std::fmt::Write as _;
 use std::path::Path;
 
 use keylo_core::{Pose, Trajectory};
@@ -62,15 +61,20 @@ pub fn read_tum(path: impl AsRef<Path>) -> Result<Trajectory, EvalError> {
 /// assert_eq!(text, "1.000000000 1.000000000 2.000000000 3.000000000 0.000000000 0.000000000 0.000000000 1.000000000\n");
 /// ```
 pub fn format_tum(traj: &Trajectory) -> String {
-    let mut out = String::new();
-    for (stamp, pose) in traj.iter() {
-        let t = pose.translation.vector;
-        let q = canonical(pose.rotation);
-        let values = [stamp, t.x, t.y, t.z, q.i, q.j, q.k, q.w];
-        let fields: Vec<String> = values.iter().map(|v| format!("{v:.9}")).collect();
-        let _ = writeln!(out, "{}", fields.join(" "));
-    }
-    out
+    traj.iter()
+        .map(|(stamp, pose)| format_tum_line(stamp, pose))
+        .collect()
+}
+
+/// One TUM line (with its newline), as [`format_tum`] writes it: for appending pose by pose.
+pub fn format_tum_line(stamp: f64, pose: &Pose) -> String {
+    let t = pose.translation.vector;
+    let q = canonical(pose.rotation);
+    let values = [stamp, t.x, t.y, t.z, q.i, q.j, q.k, q.w];
+    let fields: Vec<String> = values.iter().map(|v| format!("{v:.9}")).collect();
+    let mut line = fields.join(" ");
+    line.push('\n');
+    line
 }
 
 /// The same rotation with a non-negative real part.
