@@ -49,8 +49,26 @@ fn trajectories_are_bit_identical_across_runs_and_thread_counts() {
 }
 
 #[test]
-fn keypoint_pipeline_is_bit_identical_across_runs() {
+fn keypoint_pipeline_is_bit_identical_across_runs_and_thread_counts() {
     let one = run_config(KEYPOINTS, 2);
     assert_eq!(one.len(), 15);
     assert_eq!(one, run_config(KEYPOINTS, 2), "two keypoint runs differ");
+    assert_eq!(one, run_config(KEYPOINTS, 1), "two threads and one differ");
+    assert_eq!(
+        one,
+        run_config(KEYPOINTS, 3),
+        "two threads and three differ"
+    );
+}
+
+#[test]
+fn ndt_is_bit_identical_across_thread_counts() {
+    let ndt = format!("{RAW}[registrar]\nkind = 'ndt'\n");
+    let one = run_config(&ndt, 1);
+    assert_eq!(one.len(), 15);
+    assert_eq!(
+        one,
+        run_config(&ndt, 3),
+        "NDT on one thread and on three differ"
+    );
 }

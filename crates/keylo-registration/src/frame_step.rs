@@ -48,6 +48,30 @@ pub(crate) fn deskew_and_crop(
     points
 }
 
+/// The error for a cloud with no point between `min` and `max` range: it gives the nearest
+/// and farthest point, and asks about units when they are all beyond `max` (a cloud in
+/// millimetres, say).
+pub(crate) fn nothing_in_range(cloud: &PointCloud, (min, max): (f64, f64)) -> RegistrationError {
+    let ranges = cloud.points.iter().map(|p| p.coords.norm());
+    let (near, far) = ranges.fold((f64::INFINITY, 0.0f64), |(n, f), r| (n.min(r), f.max(r)));
+    let mut message = format!(
+        "no point within min_range {min} m and max_range {max} m (of {} input points",
+        cloud.len()
+    );
+    if cloud.is_empty() {
+        message.push(')');
+    } else {
+        message.push_str(&format!("; they lie {near:.3e} to {far:.3e} m away)"));
+    }
+    if near >= max && near.is_finite() {
+        message.push_str(
+            ": all are beyond max_range; are the coordinates in metres? (a cloud in \
+             millimetres is 1000× too far), or is max_range too small?",
+        );
+    }
+    RegistrationError::BadCloud(message)
+}
+
 /// An error naming the first point with a non-finite coordinate or time.
 pub(crate) fn reject_non_finite(cloud: &PointCloud) -> Result<(), CoreError> {
     match cloud.first_non_finite() {

@@ -61,6 +61,8 @@ pub struct Odometry {
     checked_images: bool,
     /// The cloud of the last registered frame (kept for embedders, e.g. the C API).
     last_cloud: Option<crate::PointCloud>,
+    /// Timestamp of the last registered frame: frames must come in time order.
+    last_timestamp: Option<f64>,
 }
 
 fn build_stage<T: ?Sized + 'static>(
@@ -123,6 +125,7 @@ impl Odometry {
             registrar: build_stage(&registry.registrars, "registrar", &config.registrar, &ctx)?,
             checked_images: false,
             last_cloud: None,
+            last_timestamp: None,
         };
         if odometry.detector.any() && odometry.image.is_none() {
             return Err(CoreError::stage(
@@ -145,6 +148,7 @@ impl Odometry {
             frame: frame.index,
             message,
         })?;
+        self.check_time_order(frame)?;
         let mut timings = StageTimings::default();
         let features = self.features(frame, &mut timings)?;
         let t = Instant::now();
@@ -171,6 +175,7 @@ impl Odometry {
         timings.register = t.elapsed().as_secs_f64();
         let cloud_points = cloud.len();
         self.last_cloud = Some(cloud);
+        self.last_timestamp = Some(frame.timestamp);
         Ok(FrameResult {
             index: frame.index,
             stamp: reg.stamp,
@@ -182,6 +187,28 @@ impl Odometry {
             iterations: reg.iterations,
             converged: reg.converged,
             timings,
+        })
+    }
+
+    /// A frame whose timestamp is not finite, or not after the last registered frame's (time
+    /// going backwards, or the same frame twice), is a bad frame: the motion model and
+    /// deskew assume time order.
+    fn check_time_order(&self, frame: &LidarFrame) -> Result<(), CoreError> {
+        let t = frame.timestamp;
+        let message = if !t.is_finite() {
+            format!("timestamp {t} s is not finite")
+        } else {
+            match self.last_timestamp {
+                Some(prev) if t <= prev => format!(
+                    "timestamp {t:.6} s is not after the previous frame's {prev:.6} s \
+                     (time going backwards, or the same frame twice)"
+                ),
+                _ => return Ok(()),
+            }
+        };
+        Err(CoreError::BadFrame {
+            frame: frame.index,
+            message,
         })
     }
 

@@ -227,12 +227,10 @@ impl KissIcp {
     ) -> Result<(IcpResult, usize), RegistrationError> {
         let frame = self.preprocess(cloud);
         if frame.is_empty() {
-            return Err(RegistrationError::BadCloud(format!(
-                "no point within min_range {} m and max_range {} m (of {} input points)",
-                self.config.min_range,
-                self.config.max_range,
-                cloud.len()
-            )));
+            return Err(frame_step::nothing_in_range(
+                cloud,
+                (self.config.min_range, self.config.max_range),
+            ));
         }
         // Upstream's point order, so that the 1.5× downsampling and the map update select
         // the same points as upstream (see `voxel::downsample_upstream_order`).

@@ -107,12 +107,10 @@ impl Ndt {
     ) -> Result<(NdtResult, usize), RegistrationError> {
         let frame = self.preprocess(cloud);
         if frame.is_empty() {
-            return Err(RegistrationError::BadCloud(format!(
-                "no point within min_range {} m and max_range {} m (of {} input points)",
-                self.config.min_range,
-                self.config.max_range,
-                cloud.len()
-            )));
+            return Err(frame_step::nothing_in_range(
+                cloud,
+                (self.config.min_range, self.config.max_range),
+            ));
         }
         let source = match self.config.source_voxel_size {
             v if v > 0.0 => voxel::centroids(&frame, v),
