@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzzes every parser of keylo with cargo-fuzz (libFuzzer) on stable Rust, each target for
-# SECONDS_PER_TARGET seconds (default 20: 15 targets, about 5 min of fuzzing plus the build).
+# SECONDS_PER_TARGET seconds (default 15: 15 targets, about 4 min of fuzzing plus the build).
 #
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]
 #
@@ -11,7 +11,7 @@
 # seconds is a failure: the script reports every failing target and exits 1.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
-SECONDS_PER_TARGET="${1:-20}"
+SECONDS_PER_TARGET="${1:-15}"
 shift || true
 RSS_LIMIT_MB="${RSS_LIMIT_MB:-2048}"
 TIMEOUT_S="${TIMEOUT_S:-10}"

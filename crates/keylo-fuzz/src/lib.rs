@@ -37,21 +37,66 @@ pub struct Target {
 
 /// Every fuzz target, in the order `scripts/fuzz.sh` runs them.
 pub const TARGETS: &[Target] = &[
-    Target { name: "ouster_metadata", run: ouster::ouster_metadata },
-    Target { name: "ouster_pcap", run: ouster::ouster_pcap },
-    Target { name: "ros1_bag", run: ros::ros1_bag },
-    Target { name: "mcap", run: ros::mcap },
-    Target { name: "ros_messages", run: ros::ros_messages },
-    Target { name: "ply", run: points::ply },
-    Target { name: "pcd", run: points::pcd },
-    Target { name: "kitti_bin", run: kitti::kitti_bin },
-    Target { name: "kitti_folder", run: kitti::kitti_folder },
-    Target { name: "klf", run: frames::klf },
-    Target { name: "frames_folder", run: frames::frames_folder },
-    Target { name: "config_toml", run: text::config_toml },
-    Target { name: "trajectory_tum", run: text::trajectory_tum },
-    Target { name: "trajectory_kitti", run: text::trajectory_kitti },
-    Target { name: "plugin_table", run: plugin::plugin_table },
+    Target {
+        name: "ouster_metadata",
+        run: ouster::ouster_metadata,
+    },
+    Target {
+        name: "ouster_pcap",
+        run: ouster::ouster_pcap,
+    },
+    Target {
+        name: "ros1_bag",
+        run: ros::ros1_bag,
+    },
+    Target {
+        name: "mcap",
+        run: ros::mcap,
+    },
+    Target {
+        name: "ros_messages",
+        run: ros::ros_messages,
+    },
+    Target {
+        name: "ply",
+        run: points::ply,
+    },
+    Target {
+        name: "pcd",
+        run: points::pcd,
+    },
+    Target {
+        name: "kitti_bin",
+        run: kitti::kitti_bin,
+    },
+    Target {
+        name: "kitti_folder",
+        run: kitti::kitti_folder,
+    },
+    Target {
+        name: "klf",
+        run: frames::klf,
+    },
+    Target {
+        name: "frames_folder",
+        run: frames::frames_folder,
+    },
+    Target {
+        name: "config_toml",
+        run: text::config_toml,
+    },
+    Target {
+        name: "trajectory_tum",
+        run: text::trajectory_tum,
+    },
+    Target {
+        name: "trajectory_kitti",
+        run: text::trajectory_kitti,
+    },
+    Target {
+        name: "plugin_table",
+        run: plugin::plugin_table,
+    },
 ];
 
 /// The target called `name`.
@@ -88,7 +133,11 @@ fn check_frame(f: &keylo_core::LidarFrame) {
         ("points", f.points.len()),
         ("valid", f.valid.len()),
     ] {
-        assert_eq!(len, n, "{name} holds {len} values for {}x{}", f.rows, f.cols);
+        assert_eq!(
+            len, n,
+            "{name} holds {len} values for {}x{}",
+            f.rows, f.cols
+        );
     }
     if let Some(t) = &f.pixel_times {
         assert_eq!(t.len(), n, "pixel_times");

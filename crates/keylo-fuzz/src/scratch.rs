@@ -16,7 +16,10 @@ pub fn with_files<R>(files: &[(&str, &[u8])], keep_empty: bool, f: impl FnOnce(&
         if slot.is_none() {
             *slot = Some(new_dir());
         }
-        let dir = slot.as_ref().map(|d| d.path().to_path_buf()).unwrap_or_default();
+        let dir = slot
+            .as_ref()
+            .map(|d| d.path().to_path_buf())
+            .unwrap_or_default();
         clear(&dir);
         for (name, bytes) in files {
             if bytes.is_empty() && !keep_empty {
@@ -34,7 +37,11 @@ pub fn with_files<R>(files: &[(&str, &[u8])], keep_empty: bool, f: impl FnOnce(&
 
 fn new_dir() -> tempfile::TempDir {
     let shm = PathBuf::from("/dev/shm");
-    let base = if shm.is_dir() { shm } else { std::env::temp_dir() };
+    let base = if shm.is_dir() {
+        shm
+    } else {
+        std::env::temp_dir()
+    };
     tempfile::Builder::new()
         .prefix("keylo-fuzz-")
         .tempdir_in(base)

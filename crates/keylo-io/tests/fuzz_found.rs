@@ -28,7 +28,12 @@ fn read_recording(path: &Path, format: BagFormat, limit: Duration) {
     if let Ok(mut source) = BagSource::open(&config, &ctx, format) {
         while let Some(Ok(_)) = source.next_frame() {}
     }
-    assert!(t0.elapsed() < limit, "{} took {:?}", path.display(), t0.elapsed());
+    assert!(
+        t0.elapsed() < limit,
+        "{} took {:?}",
+        path.display(),
+        t0.elapsed()
+    );
 }
 
 /// The index declares ~2^64 messages on the cloud topic: opening listed every selected
