@@ -29,7 +29,11 @@ impl FrameSelection {
 
     /// True once no frame at or after `i` can be wanted (the reader may stop).
     pub fn past_end(&self, i: usize) -> bool {
-        self.max_frames != 0 && i >= self.start + self.max_frames * self.stride
+        let end = self
+            .max_frames
+            .saturating_mul(self.stride)
+            .saturating_add(self.start);
+        self.max_frames != 0 && i >= end
     }
 
     /// The selected indices of a source holding `total` frames; the error says why none is
@@ -42,6 +46,20 @@ impl FrameSelection {
             ));
         }
         Ok((self.start..total).filter(|&i| self.wants(i)).collect())
+    }
+
+    /// How many frames of a source holding `total` are selected, without listing them (a
+    /// recording's index may declare any count); the error is that of [`Self::indices`].
+    pub fn count(&self, total: usize) -> Result<usize, String> {
+        if self.start >= total {
+            return self.indices(total).map(|v| v.len());
+        }
+        let n = (total - self.start).div_ceil(self.stride);
+        Ok(if self.max_frames == 0 {
+            n
+        } else {
+            n.min(self.max_frames)
+        })
     }
 }
 
@@ -61,5 +79,22 @@ mod tests {
         );
         assert!(s.indices(1).unwrap_err().contains("source.start"));
         assert!(FrameSelection::new(0, 0, 0).unwrap_err().contains("stride"));
+    }
+
+    #[test]
+    fn counts_match_indices_and_huge_values_neither_overflow_nor_allocate() {
+        for (start, stride, max) in [(0, 1, 0), (1, 2, 3), (2, 3, 0), (0, 4, 100)] {
+            let s = FrameSelection::new(start, stride, max).unwrap();
+            for total in 3..40 {
+                assert_eq!(s.count(total).unwrap(), s.indices(total).unwrap().len());
+            }
+        }
+        // A recording's index declaring u64::MAX messages (found by fuzzing: listing them hung).
+        let all = FrameSelection::new(0, 1, 0).unwrap();
+        assert_eq!(all.count(usize::MAX).unwrap(), usize::MAX);
+        let huge = FrameSelection::new(usize::MAX - 1, usize::MAX, usize::MAX).unwrap();
+        assert!(!huge.past_end(usize::MAX - 1));
+        assert!(huge.wants(usize::MAX - 1));
+        assert_eq!(huge.count(usize::MAX).unwrap(), 1);
     }
 }

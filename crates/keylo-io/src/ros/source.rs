@@ -75,7 +75,11 @@ impl BagSource {
         let selection =
             FrameSelection::new(config.start, config.stride, config.max_frames).map_err(err)?;
         let frames = match cloud.count {
-            Some(n) => Some(selection.indices(n as usize).map_err(err)?.len()),
+            Some(n) => Some(
+                selection
+                    .count(usize::try_from(n).unwrap_or(usize::MAX))
+                    .map_err(err)?,
+            ),
             None => None,
         };
         let model = format!("{} {}", format.kind(), cloud.name);

@@ -1,0 +1,48 @@
+//! Inputs found by fuzzing (`scripts/fuzz.sh`) that crashed, hung or exhausted memory before
+//! their fix; each must now give an error or frames, quickly. The files are the replay set of
+//! crates/keylo-fuzz (`fuzz/regressions/<target>/`).
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use keylo_core::{BuildContext, ImageSource};
+use keylo_io::ros::{BagFormat, BagSource, BagSourceConfig};
+
+fn regression(target: &str, name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fuzz/regressions")
+        .join(target)
+        .join(name)
+}
+
+/// Opens `path` as `format` and reads it to the end, within `limit`.
+fn read_recording(path: &Path, format: BagFormat, limit: Duration) {
+    let t0 = Instant::now();
+    let config = BagSourceConfig {
+        path: path.display().to_string(),
+        ..BagSourceConfig::default()
+    };
+    let ctx = BuildContext {
+        base_dir: ".".into(),
+    };
+    if let Ok(mut source) = BagSource::open(&config, &ctx, format) {
+        while let Some(Ok(_)) = source.next_frame() {}
+    }
+    assert!(
+        t0.elapsed() < limit,
+        "{} took {:?}",
+        path.display(),
+        t0.elapsed()
+    );
+}
+
+/// The index declares ~2^64 messages on the cloud topic: opening listed every selected
+/// index (hours, gigabytes); the count is now computed.
+#[test]
+fn a_huge_declared_message_count_opens_quickly() {
+    let limit = Duration::from_secs(5);
+    let bag = regression("ros1_bag", "huge_message_count");
+    read_recording(&bag, BagFormat::Ros1Bag, limit);
+    let mcap = regression("mcap", "huge_message_count");
+    read_recording(&mcap, BagFormat::Mcap, limit);
+}
