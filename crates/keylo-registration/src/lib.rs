@@ -7,6 +7,7 @@
 //!   semantics and defaults) in a keyframe local-map odometry like simple_ndt_slam.
 //! - [`downsample`]: `passthrough` (every valid point) and `voxel` downsamplers.
 
+pub mod degeneracy;
 pub mod downsample;
 mod error;
 mod frame_step;

@@ -45,6 +45,8 @@ pub struct FrameResult {
     pub registered_points: usize,
     pub iterations: usize,
     pub converged: bool,
+    /// The registrar's degeneracy analysis of this frame, when it makes one.
+    pub degeneracy: Option<crate::Degeneracy>,
     pub timings: StageTimings,
 }
 
@@ -159,7 +161,13 @@ impl Odometry {
             });
         }
         let t = Instant::now();
-        let reg = self.registrar.register(&cloud).map_err(|e| match e {
+        let registered = if self.registrar.wants_keypoints() {
+            let keypoints = crate::FrameKeypoints::from_features(frame, &features);
+            self.registrar.register_with_keypoints(&cloud, &keypoints)
+        } else {
+            self.registrar.register(&cloud)
+        };
+        let reg = registered.map_err(|e| match e {
             CoreError::Stage { stage, message } => CoreError::Stage {
                 stage,
                 message: format!("frame {}: {message}", frame.index),
@@ -178,6 +186,7 @@ impl Odometry {
             registered_points: reg.source_points,
             iterations: reg.iterations,
             converged: reg.converged,
+            degeneracy: reg.degeneracy,
             timings,
         })
     }

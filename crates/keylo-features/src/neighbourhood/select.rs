@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use keylo_core::{ChannelFeatures, FrameFeatures, LidarFrame};
 
-use super::index_math::{clip_rows, cover, stride_pixel, window, wrap_col};
+use keylo_core::pixel_math::{clip_rows, cover, stride_pixel, window, wrap_col};
 use super::Mapping;
 use crate::FeaturesError;
 

@@ -12,7 +12,9 @@ use nalgebra::{Isometry3, Point3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{check, check_range_limits};
+use crate::degeneracy::{self, DegeneracyConfig};
 use crate::{voxel, RegistrationError};
+use keylo_core::Degeneracy;
 use icp::{IcpResult, IcpSettings};
 use threshold::AdaptiveThreshold;
 use voxel_map::VoxelHashMap;
@@ -46,6 +48,8 @@ pub struct KissIcpConfig {
     /// Divergence guard: a frame whose pose moves more than this from the previous one (m) is
     /// rejected with an error and the state is kept; 0 disables the guard.
     pub max_motion_per_frame: f64,
+    /// Per-frame degeneracy analysis (point-to-plane information at convergence).
+    pub degeneracy: DegeneracyConfig,
 }
 
 impl Default for KissIcpConfig {
@@ -63,6 +67,7 @@ impl Default for KissIcpConfig {
             convergence_criterion: 1e-4,
             max_num_threads: 0,
             max_motion_per_frame: 5.0,
+            degeneracy: DegeneracyConfig::default(),
         }
     }
 }
@@ -135,7 +140,8 @@ impl KissIcpConfig {
             "max_motion_per_frame",
             self.max_motion_per_frame,
             "expected >= 0 (0 = no guard)",
-        )
+        )?;
+        self.degeneracy.validate()
     }
 }
 
@@ -221,10 +227,20 @@ impl KissIcp {
         Ok(())
     }
 
+    /// The degeneracy of `source` at `pose` against the map (before the map update).
+    fn degeneracy(&self, source: &[Point3<f64>], pose: &Isometry3<f64>, max_distance: f64) -> Option<Degeneracy> {
+        let c = &self.config.degeneracy;
+        if !c.analyse || self.map.is_empty() {
+            return None;
+        }
+        let info = degeneracy::plane_information(source, &self.map, pose, max_distance, c.max_points);
+        Some(degeneracy::analyse(&info.matrix, info.residuals, info.rms_range, c.weak_ratio))
+    }
+
     fn register_points(
         &mut self,
         cloud: &PointCloud,
-    ) -> Result<(IcpResult, usize), RegistrationError> {
+    ) -> Result<(IcpResult, usize, Option<Degeneracy>), RegistrationError> {
         let frame = self.preprocess(cloud);
         if frame.is_empty() {
             return Err(RegistrationError::BadCloud(format!(
@@ -261,6 +277,7 @@ impl KissIcp {
         );
         let new_pose = result.pose;
         self.check_divergence(&new_pose)?;
+        let degeneracy = self.degeneracy(&source, &new_pose, settings.max_distance);
         self.threshold.update(&(initial_guess.inverse() * new_pose));
         self.map.update(&frame_downsample, &new_pose);
         let registered = source.len();
@@ -270,7 +287,7 @@ impl KissIcp {
         // geometrically through `last_pose⁻¹ · new_pose`, so renormalise every frame.
         self.last_delta.rotation.renormalize();
         self.last_pose = new_pose;
-        Ok((result, registered))
+        Ok((result, registered, degeneracy))
     }
 }
 
@@ -278,7 +295,7 @@ impl Registrar for KissIcp {
     fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
         frame_step::reject_non_finite(cloud)?;
         let outcome = frame_step::in_own_pool(self, |s| &mut s.pool, |s| s.register_points(cloud));
-        let (result, source_points) = outcome?;
+        let (result, source_points, degeneracy) = outcome?;
         Ok(Registration {
             stamp: frame_step::end_stamp(cloud),
             pose: result.pose,
@@ -286,6 +303,7 @@ impl Registrar for KissIcp {
             iterations: result.iterations,
             // The first frame has no map to align to: nothing to converge.
             converged: result.converged || result.iterations == 0,
+            degeneracy,
         })
     }
 
