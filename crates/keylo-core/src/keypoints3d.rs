@@ -153,7 +153,11 @@ mod tests {
         let f = frame();
         let mut image = Image::new_gray(4, 2, Channel::Signal);
         (image.scale_x, image.scale_y) = (2.0, 2.0);
-        let kp = |x: f32, y: f32| Keypoint { x, y, ..Keypoint::default() };
+        let kp = |x: f32, y: f32| Keypoint {
+            x,
+            y,
+            ..Keypoint::default()
+        };
         let c = ChannelFeatures {
             image,
             // (1.2, 1.0) covers rows 2..=3, cols 2..=3; grid centre (2.9, 2.5) → (2, 3) or (3, 3).

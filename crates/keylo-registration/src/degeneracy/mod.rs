@@ -41,7 +41,7 @@ impl Default for DegeneracyConfig {
     fn default() -> Self {
         Self {
             analyse: true,
-            weak_ratio: 0.002,
+            weak_ratio: 0.005,
             max_points: 2000,
         }
     }
@@ -116,7 +116,10 @@ pub fn analyse(
         f64::INFINITY
     };
     let weak = if largest > 0.0 {
-        values.iter().take_while(|&&v| v < weak_ratio * largest).count()
+        values
+            .iter()
+            .take_while(|&&v| v < weak_ratio * largest)
+            .count()
     } else {
         6
     };

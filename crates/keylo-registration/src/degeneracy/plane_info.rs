@@ -52,11 +52,10 @@ pub fn plane_information(
             continue;
         };
         let arm = world.coords - centre;
-        let j = Vector6::new(n.x, n.y, n.z, 0.0, 0.0, 0.0)
-            + {
-                let c = arm.cross(&n);
-                Vector6::new(0.0, 0.0, 0.0, c.x, c.y, c.z)
-            };
+        let j = Vector6::new(n.x, n.y, n.z, 0.0, 0.0, 0.0) + {
+            let c = arm.cross(&n);
+            Vector6::new(0.0, 0.0, 0.0, c.x, c.y, c.z)
+        };
         matrix += j * j.transpose();
         residuals += 1;
         range2 += arm.norm_squared();

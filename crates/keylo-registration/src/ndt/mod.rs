@@ -157,7 +157,12 @@ impl Ndt {
             return None;
         }
         let info = -result.hessian;
-        Some(crate::degeneracy::analyse(&info, points, self.rms_range, c.weak_ratio))
+        Some(crate::degeneracy::analyse(
+            &info,
+            points,
+            self.rms_range,
+            c.weak_ratio,
+        ))
     }
 }
 
