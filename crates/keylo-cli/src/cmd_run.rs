@@ -11,6 +11,7 @@ use keylo::config::{OnBadFrame, PipelineConfig};
 use keylo::{CoreError, Pipeline, Trajectory};
 
 use crate::args::RunArgs;
+use crate::degeneracy_out::{self, DegeneracyRow};
 use crate::report::{self, Failure, Summary, Totals};
 use crate::{configs, resources, trajectories, EXIT_FRAME_FAILED, EXIT_INTERRUPTED};
 
@@ -68,6 +69,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         ..Summary::default()
     };
     outcome.totals.fill(&mut summary);
+    summary.degeneracy = degeneracy_out::summarise(&outcome.degeneracy);
     let gt = gt_given.or_else(|| {
         let t = pipeline.source.ground_truth()?;
         Some(trajectories::stamped(t, "the source's ground truth"))
@@ -75,6 +77,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     add_accuracy(&mut summary, &outcome.trajectory, gt);
     // summary.json comes last: `keylo compare` takes it as the mark of a finished run.
     report::write_frames(&out, &outcome.per_frame)?;
+    degeneracy_out::write(&out, &outcome.degeneracy)?;
     report::write_outputs(
         &out,
         &outcome.trajectory,
@@ -113,6 +116,7 @@ struct RunState {
     failure: Option<Failure>,
     interrupted: bool,
     per_frame: Vec<report::FrameRow>,
+    degeneracy: Vec<DegeneracyRow>,
 }
 
 /// Set by Ctrl-C or SIGTERM: the run stops after the current frame and writes what it has.
@@ -168,6 +172,19 @@ fn process_all(
                     odometry_ms: 1e3 * seconds,
                     rss_mb: resources::rss_mb(),
                 });
+                if let Some(d) = r.degeneracy {
+                    tracing::debug!(
+                        "frame {}: condition {:.3e}, {} weak direction(s), weakest {:?}",
+                        frame.index,
+                        d.condition,
+                        d.weak,
+                        d.eigenvectors[0]
+                    );
+                    st.degeneracy.push(DegeneracyRow {
+                        frame: frame.index,
+                        degeneracy: d,
+                    });
+                }
             }
             Err(e @ CoreError::BadFrame { .. })
                 if config.output.on_bad_frame == OnBadFrame::Skip =>

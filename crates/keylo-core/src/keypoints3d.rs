@@ -34,6 +34,9 @@ impl FrameKeypoints {
     /// The keypoints of `features` that have descriptors, each mapped to the frame pixel
     /// under it (the covered pixel of the keypoint's image pixel nearest to its centre that
     /// holds a return, by the downsampler's index math); keypoints over no return are left out.
+    /// The point is interpolated bilinearly between the four grid pixels around the keypoint
+    /// when all hold returns within 5 % of one another's range (a smooth surface), so that it
+    /// moves continuously with the keypoint; at depth edges it is the pixel's own point.
     pub fn from_features(frame: &LidarFrame, features: &FrameFeatures) -> Self {
         let per_image = features
             .per_image
@@ -61,10 +64,11 @@ fn image_keypoints(frame: &LidarFrame, c: &ChannelFeatures) -> Option<ImageKeypo
     }
     let (mut points, mut times, mut rows) = (Vec::new(), Vec::new(), Vec::new());
     for (i, kp) in c.keypoints.iter().enumerate() {
-        let Some(pixel) = pixel_under(frame, c, kp.x, kp.y) else {
+        let Some((pixel, gx, gy)) = pixel_under(frame, c, kp.x, kp.y) else {
             continue;
         };
-        points.push(frame.points[pixel].cast::<f64>());
+        let point = bilinear(frame, gx, gy).unwrap_or_else(|| frame.points[pixel].cast::<f64>());
+        points.push(point);
         times.push(frame.pixel_time(pixel) - frame.timestamp);
         rows.push(i);
     }
@@ -76,9 +80,44 @@ fn image_keypoints(frame: &LidarFrame, c: &ChannelFeatures) -> Option<ImageKeypo
     })
 }
 
+/// Whether pixel `i` holds a finite return.
+fn usable(frame: &LidarFrame, i: usize) -> bool {
+    frame.valid[i] && frame.range[i] > 0.0 && frame.points[i].coords.iter().all(|v| v.is_finite())
+}
+
+/// The point at grid position `(gx, gy)` (pixel-centre coordinates) interpolated between the
+/// four pixels around it, when all hold returns of nearly equal range.
+fn bilinear(frame: &LidarFrame, gx: f64, gy: f64) -> Option<Point3<f64>> {
+    let (x0, y0) = (gx.floor(), gy.floor());
+    let (fx, fy) = (gx - x0, gy - y0);
+    let (x0, y0) = (x0 as i64, y0 as i64);
+    if y0 < 0 || y0 + 1 >= frame.rows as i64 {
+        return None;
+    }
+    let mut sum = nalgebra::Vector3::zeros();
+    let (mut lo, mut hi) = (f32::INFINITY, 0.0f32);
+    for (dy, wy) in [(0, 1.0 - fy), (1, fy)] {
+        for (dx, wx) in [(0, 1.0 - fx), (1, fx)] {
+            let i = (y0 + dy) as usize * frame.cols + wrap_col(x0 + dx, frame.cols);
+            if !usable(frame, i) {
+                return None;
+            }
+            lo = lo.min(frame.range[i]);
+            hi = hi.max(frame.range[i]);
+            sum += frame.points[i].coords.cast::<f64>() * (wx * wy);
+        }
+    }
+    (hi <= 1.05 * lo).then_some(Point3::from(sum))
+}
+
 /// The frame pixel under image point `(x, y)`: of the grid pixels its image pixel covers,
-/// the one nearest to the point that holds a finite return.
-fn pixel_under(frame: &LidarFrame, c: &ChannelFeatures, x: f32, y: f32) -> Option<usize> {
+/// the one nearest to the point that holds a finite return; with the point's grid position.
+fn pixel_under(
+    frame: &LidarFrame,
+    c: &ChannelFeatures,
+    x: f32,
+    y: f32,
+) -> Option<(usize, f64, f64)> {
     let (w, h) = (c.image.width, c.image.height);
     let inside = x.is_finite() && y.is_finite() && x > -1.0 && y > -1.0;
     if !inside || x >= w as f32 || y >= h as f32 {
@@ -97,16 +136,14 @@ fn pixel_under(frame: &LidarFrame, c: &ChannelFeatures, x: f32, y: f32) -> Optio
     for r in r0..=r1 {
         for col in c0..=c1 {
             let i = r * cols + wrap_col(col, cols);
-            let ok = frame.valid[i]
-                && frame.range[i] > 0.0
-                && frame.points[i].coords.iter().all(|v| v.is_finite());
+            let ok = usable(frame, i);
             let d2 = (col as f64 - gx).powi(2) + (r as f64 - gy).powi(2);
             if ok && best.is_none_or(|(b, _)| d2 < b) {
                 best = Some((d2, i));
             }
         }
     }
-    best.map(|(_, i)| i)
+    best.map(|(_, i)| (i, gx, gy))
 }
 
 /// The rows `rows` (each `< d.rows`) of `d`.
@@ -173,9 +210,11 @@ mod tests {
         assert_eq!(k.len(), 2);
         let img = &k.per_image[0];
         assert_eq!(img.image, "signal");
-        // Row 2 and row 3 tie at distance 0.5; the first (row 2, col 3) wins.
-        assert_eq!(img.points[0].x, 19.0);
-        // (2.0, 1.0): cols 4..=5, rows 2..=3, centre (4.5, 2.5); (2, 4) has no return.
+        // Grid position (2.9, 2.5): all four pixels around it hold returns of equal range, so
+        // the point is interpolated: x = row·8 + col at (2.5, 2.9) = 22.9.
+        assert!((img.points[0].x - 22.9).abs() < 1e-5, "{}", img.points[0]);
+        // (2.0, 1.0): cols 4..=5, rows 2..=3, centre (4.5, 2.5); (2, 4) has no return, so no
+        // interpolation: the nearest pixel with a return, (2, 5).
         assert_eq!(img.points[1].x, 21.0);
         assert_eq!(img.descriptors.data, DescriptorData::Binary(vec![10, 20]));
     }

@@ -41,11 +41,14 @@ pub struct HybridConfig {
     /// With fewer matched keypoints than this, the weak directions of the cloud are bounded
     /// by `weak_bound` instead of being left to the keypoints.
     pub min_matches: usize,
-    /// Remove the cloud's point-to-point terms along its weak directions (there they only
-    /// pull towards the nearest samples), leaving those directions to the keypoints.
+    /// Remove the cloud's point-to-point terms along its weak directions (there they mostly
+    /// pull towards the nearest samples), leaving those directions to the keypoints. Off by
+    /// default: on the simulated corridor the little the geometry says along its axis (door
+    /// recesses, boxes) is worth keeping (docs/results/hybrid.md).
     pub project_weak: bool,
     /// Largest correction of a frame from the constant-velocity prediction along a weak
-    /// direction that the keypoints do not constrain (m; rotations scaled by the RMS range).
+    /// direction that the keypoints do not constrain (m; rotations scaled by the RMS range);
+    /// 0 = no bound.
     pub weak_bound: f64,
     /// Trust-region radius of one step (m; rotations scaled by the RMS range).
     pub trust_radius: f64,
@@ -57,14 +60,14 @@ impl Default for HybridConfig {
     fn default() -> Self {
         Self {
             icp: KissIcpConfig::default(),
-            keypoint_weight: 1.0,
+            keypoint_weight: 10.0,
             keypoint_kernel: 0.3,
             keypoint_max_distance: 1.0,
             match_ratio: 0.8,
             cross_check: true,
             min_matches: 10,
-            project_weak: true,
-            weak_bound: 0.1,
+            project_weak: false,
+            weak_bound: 0.0,
             trust_radius: 2.0,
             solver: HybridSolver::Clarabel,
         }

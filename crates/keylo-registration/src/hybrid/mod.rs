@@ -4,10 +4,10 @@
 //! [`crate::degeneracy`] analysis and a convex [`step`] per Gauss–Newton iteration ([`align`]).
 //!
 //! Per frame: the cloud's point-to-plane information at the predicted pose gives its weak
-//! directions; the cloud's point-to-point terms are removed along them (they would only pull
-//! towards the nearest samples) and the keypoint pairs constrain them; with too few pairs the
-//! correction along them is bounded, so the pose stays near the constant-velocity prediction.
-//! Without weak directions and without keypoints this is KISS-ICP.
+//! directions; the keypoint pairs (weight `keypoint_weight` each) constrain them. Optionally
+//! (`project_weak`) the cloud's point-to-point terms are removed along them, and with too few
+//! pairs the correction along them is bounded (`weak_bound`), so the pose stays near the
+//! constant-velocity prediction. Without keypoints (and with the defaults) this is KISS-ICP.
 
 pub mod align;
 mod config;
@@ -92,7 +92,7 @@ impl Hybrid {
             keypoint_kernel: c.keypoint_kernel,
             weak: align::weak_vectors(&d),
             project_weak: c.project_weak,
-            bound_weak: pairs.len() < c.min_matches,
+            bound_weak: c.weak_bound > 0.0 && pairs.len() < c.min_matches,
             weak_bound: c.weak_bound,
             trust_radius: c.trust_radius,
             length_scale: info.rms_range.max(1.0),
@@ -122,6 +122,18 @@ impl Hybrid {
             &prepared.guess,
             &settings,
             &mut self.scratch,
+        );
+        tracing::debug!(
+            "hybrid: {} keypoint pairs ({} inliers), {} weak direction(s) {}, {} iterations",
+            pairs.len(),
+            result.keypoint_inliers,
+            settings.weak.len(),
+            if settings.bound_weak {
+                "bounded"
+            } else {
+                "left to the keypoints"
+            },
+            result.iterations
         );
         if result.fallbacks > 0 {
             tracing::warn!(
