@@ -59,7 +59,7 @@ impl FrameKeypoints {
 
 fn image_keypoints(frame: &LidarFrame, c: &ChannelFeatures) -> Option<ImageKeypoints> {
     let descriptors = c.descriptors.as_ref()?;
-    if descriptors.rows != c.keypoints.len() {
+    if descriptors.rows != c.keypoints.len() || !well_formed(descriptors) {
         return None;
     }
     let (mut points, mut times, mut rows) = (Vec::new(), Vec::new(), Vec::new());
@@ -146,7 +146,16 @@ fn pixel_under(
     best.map(|(_, i)| (i, gx, gy))
 }
 
-/// The rows `rows` (each `< d.rows`) of `d`.
+/// Whether `d` holds exactly `rows × dim` elements.
+pub fn well_formed(d: &Descriptors) -> bool {
+    let n = match &d.data {
+        DescriptorData::Binary(v) => v.len(),
+        DescriptorData::Float(v) => v.len(),
+    };
+    d.rows.checked_mul(d.dim) == Some(n)
+}
+
+/// The rows `rows` (each `< d.rows`) of a [`well_formed`] `d`.
 fn descriptor_rows(d: &Descriptors, rows: &[usize]) -> Descriptors {
     let data = match &d.data {
         DescriptorData::Binary(v) => DescriptorData::Binary(

@@ -2,6 +2,7 @@
 //! binary rows, L2 for float rows) with cross-check and Lowe's ratio test, in plain Rust so
 //! the registrar needs no OpenCV. Ties go to the lower row: the result is deterministic.
 
+use keylo_core::keypoints3d::well_formed;
 use keylo_core::{DescriptorData, Descriptors};
 use rayon::prelude::*;
 
@@ -10,7 +11,8 @@ const CHUNK: usize = 64;
 
 /// Pairs `(query row, train row)` whose best match passes the ratio test (best distance below
 /// `ratio` × the second best; `ratio ≥ 1` turns it off) and, with `cross_check`, is mutual;
-/// ascending by query row. Descriptor sets of different kinds or widths give no pairs.
+/// ascending by query row. Descriptor sets of different kinds or widths, or whose data is not
+/// `rows × dim` long, give no pairs.
 pub fn match_rows(
     query: &Descriptors,
     train: &Descriptors,
@@ -18,7 +20,8 @@ pub fn match_rows(
     cross_check: bool,
 ) -> Vec<(usize, usize)> {
     let same_kind = std::mem::discriminant(&query.data) == std::mem::discriminant(&train.data);
-    if query.rows == 0 || train.rows == 0 || query.dim != train.dim || !same_kind {
+    let usable = well_formed(query) && well_formed(train);
+    if query.rows == 0 || train.rows == 0 || query.dim != train.dim || !same_kind || !usable {
         return Vec::new();
     }
     let d = distances(query, train);
@@ -136,5 +139,11 @@ mod tests {
         );
         assert_eq!(m, vec![(0, 1), (1, 0)]);
         assert!(match_rows(&f(&[0.0, 0.0]), &binary(&[[0; 4]]), 0.8, true).is_empty());
+        let short = Descriptors {
+            rows: 2,
+            dim: 2,
+            data: DescriptorData::Float(vec![0.0; 3]),
+        };
+        assert!(match_rows(&short, &f(&[0.0, 0.0]), 0.8, true).is_empty());
     }
 }
