@@ -11,6 +11,7 @@ use keylo::config::{OnBadFrame, PipelineConfig};
 use keylo::{CoreError, FrameResult, LidarFrame, Pipeline, Trajectory};
 
 use crate::args::RunArgs;
+use crate::degeneracy_out::{self, DegeneracyRow};
 use crate::journal::Journal;
 use crate::report::{self, Failure, Summary, Totals};
 use crate::{configs, resources, trajectories, EXIT_FRAME_FAILED, EXIT_INTERRUPTED};
@@ -76,12 +77,14 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         ..Summary::default()
     };
     outcome.totals.fill(&mut summary);
+    summary.degeneracy = degeneracy_out::summarise(&outcome.degeneracy);
     let gt = gt_given.or_else(|| {
         let t = pipeline.source.ground_truth()?;
         Some(trajectories::stamped(t, "the source's ground truth"))
     });
     add_accuracy(&mut summary, &outcome.trajectory, gt);
     // summary.json comes last: `keylo compare` takes it as the mark of a finished run.
+    degeneracy_out::write(&out, &outcome.degeneracy)?;
     report::write_summary(&out, &summary)?;
 
     if !quiet {
@@ -113,6 +116,7 @@ struct RunState {
     skipped: usize,
     failure: Option<Failure>,
     interrupted: bool,
+    degeneracy: Vec<DegeneracyRow>,
 }
 
 /// Set by Ctrl-C or SIGTERM: the run stops after the current frame and writes what it has.
@@ -170,6 +174,19 @@ fn process_all(
                     odometry_ms: 1e3 * seconds,
                     rss_mb: resources::rss_mb(),
                 };
+                if let Some(d) = r.degeneracy {
+                    tracing::debug!(
+                        "frame {}: condition {:.3e}, {} weak direction(s), weakest {:?}",
+                        frame.index,
+                        d.condition,
+                        d.weak,
+                        d.eigenvectors[0]
+                    );
+                    st.degeneracy.push(DegeneracyRow {
+                        frame: frame.index,
+                        degeneracy: d,
+                    });
+                }
                 if let Err(e) = journal.record(r.stamp, &r.pose, &row) {
                     st.failure = Some(Failure {
                         frame: frame.index,

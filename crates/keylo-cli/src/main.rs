@@ -10,6 +10,7 @@ mod cmd_run;
 mod cmd_sim;
 mod compare;
 mod configs;
+mod degeneracy_out;
 mod journal;
 mod keypoints;
 mod plot_out;

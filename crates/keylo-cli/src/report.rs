@@ -53,6 +53,8 @@ pub struct Summary {
     pub accuracy: Option<Accuracy>,
     /// Why accuracy is missing although ground truth was given.
     pub accuracy_error: Option<String>,
+    /// The registrar's degeneracy analysis over the run (per frame in `degeneracy.csv`).
+    pub degeneracy: Option<crate::degeneracy_out::DegeneracySummary>,
 }
 
 /// Running sums over frames.

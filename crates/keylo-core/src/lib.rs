@@ -7,20 +7,25 @@
 
 pub mod cloud;
 pub mod config;
+pub mod degeneracy;
 pub mod error;
 pub mod features;
 pub mod frame;
 pub mod image;
+pub mod keypoints3d;
 pub mod pipeline;
+pub mod pixel_math;
 pub mod registry;
 pub mod stages;
 pub mod trajectory;
 
 pub use cloud::PointCloud;
+pub use degeneracy::Degeneracy;
 pub use error::{ConfigError, CoreError};
 pub use features::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
 pub use frame::{BeamGeometry, Channel, LidarFrame, PixelIndexMap};
 pub use image::Image;
+pub use keypoints3d::{FrameKeypoints, ImageKeypoints};
 pub use pipeline::{build_source, FrameResult, Odometry, PerImage, Pipeline, StageTimings};
 pub use registry::{BuildContext, Registry};
 pub use stages::{

@@ -227,6 +227,8 @@ pub fn registration_from_abi(r: &KeyloRegistration) -> Result<Registration, Stri
         source_points: r.source_points,
         iterations: r.iterations,
         converged: r.converged,
+        // ABI v1 has no degeneracy report.
+        degeneracy: None,
     })
 }
 

@@ -5,26 +5,37 @@
 //!   prediction, deskew, point-to-point ICP with a Geman–McClure kernel).
 //! - [`ndt`]: NDT (Magnusson's point-to-distribution, PCL's `NormalDistributionsTransform`
 //!   semantics and defaults) in a keyframe local-map odometry like simple_ndt_slam.
+//! - [`hybrid`]: KISS-ICP's cloud terms off the weak directions of the geometry plus
+//!   keypoint matches of consecutive frames, each step a Clarabel cone program.
+//! - [`degeneracy`]: eigen-analysis of the normal equations (weak directions).
 //! - [`downsample`]: `passthrough` (every valid point) and `voxel` downsamplers.
 
+pub mod degeneracy;
 pub mod downsample;
 mod error;
 mod frame_step;
+pub mod hybrid;
 pub mod kiss_icp;
 pub mod ndt;
 pub mod se3;
 pub mod voxel;
 
 pub use error::RegistrationError;
+pub use hybrid::{Hybrid, HybridConfig};
 pub use kiss_icp::{KissIcp, KissIcpConfig};
 pub use ndt::{Ndt, NdtConfig};
 
-/// Registers this crate's backends: registrars `kiss-icp`, `ndt`; downsamplers `passthrough`, `voxel`.
+/// Registers this crate's backends: registrars `kiss-icp`, `hybrid`, `ndt`; downsamplers `passthrough`, `voxel`.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.registrars.add::<KissIcpConfig>(
         "kiss-icp",
         "KISS-ICP-style point-to-point ICP against a voxel-hash local map (upstream defaults)",
         |config, _ctx| Ok(Box::new(KissIcp::new(config)?)),
+    );
+    registry.registrars.add::<HybridConfig>(
+        "hybrid",
+        "degeneracy-aware KISS-ICP plus robust residuals of descriptor-matched keypoints of consecutive frames (Clarabel step)",
+        |config, _ctx| Ok(Box::new(Hybrid::new(config)?)),
     );
     registry.registrars.add::<NdtConfig>(
         "ndt",

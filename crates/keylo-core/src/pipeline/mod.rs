@@ -47,6 +47,8 @@ pub struct FrameResult {
     pub map_points: usize,
     pub iterations: usize,
     pub converged: bool,
+    /// The registrar's degeneracy analysis of this frame, when it makes one.
+    pub degeneracy: Option<crate::Degeneracy>,
     pub timings: StageTimings,
 }
 
@@ -165,7 +167,13 @@ impl Odometry {
             });
         }
         let t = Instant::now();
-        let reg = self.registrar.register(&cloud).map_err(|e| match e {
+        let registered = if self.registrar.wants_keypoints() {
+            let keypoints = crate::FrameKeypoints::from_features(frame, &features);
+            self.registrar.register_with_keypoints(&cloud, &keypoints)
+        } else {
+            self.registrar.register(&cloud)
+        };
+        let reg = registered.map_err(|e| match e {
             CoreError::Stage { stage, message } => CoreError::Stage {
                 stage,
                 message: format!("frame {}: {message}", frame.index),
@@ -186,6 +194,7 @@ impl Odometry {
             map_points: self.registrar.map_size(),
             iterations: reg.iterations,
             converged: reg.converged,
+            degeneracy: reg.degeneracy,
             timings,
         })
     }

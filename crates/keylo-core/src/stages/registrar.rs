@@ -1,4 +1,4 @@
-use crate::{CoreError, PointCloud, Pose};
+use crate::{CoreError, Degeneracy, FrameKeypoints, PointCloud, Pose};
 
 /// The outcome of registering one cloud.
 #[derive(Debug, Clone, PartialEq)]
@@ -14,6 +14,9 @@ pub struct Registration {
     pub iterations: usize,
     /// Whether the solver met its convergence rule (false: stopped at the iteration cap).
     pub converged: bool,
+    /// How well the geometry constrained the pose (eigen-analysis of the normal equations at
+    /// convergence), for registrars that report it.
+    pub degeneracy: Option<Degeneracy>,
 }
 
 /// Estimates the sensor pose of each cloud against its own local map (odometry).
@@ -23,6 +26,27 @@ pub struct Registration {
 pub trait Registrar: Send {
     /// Registers the next cloud and returns its pose.
     fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError>;
+
+    /// Whether [`Self::register_with_keypoints`] uses the keypoints: the pipeline then maps
+    /// every described keypoint to its 3-D point and calls it instead of [`Self::register`].
+    /// By default false.
+    fn wants_keypoints(&self) -> bool {
+        false
+    }
+
+    /// Registers the next cloud, given also the frame's described keypoints with their
+    /// points (sensor frame, times relative to the frame's timestamp, as the cloud's).
+    /// Registrars that match keypoints between frames (`hybrid`) override it; by default
+    /// the keypoints are ignored.
+    fn register_with_keypoints(
+        &mut self,
+        cloud: &PointCloud,
+        keypoints: &FrameKeypoints,
+    ) -> Result<Registration, CoreError> {
+        let _ = keypoints;
+        self.register(cloud)
+    }
+
     /// Points currently in the local map.
     fn map_size(&self) -> usize;
 }

@@ -1,12 +1,12 @@
 //! The paper's downsampler: the frame points under K×K windows around keypoints.
 
 mod config;
-mod index_math;
 mod matched;
 mod select;
 
 pub use config::{KeypointUse, Mapping, NeighbourhoodConfig, TooFew, Windows};
-pub use index_math::{clip_rows, cover, stride_pixel, window, wrap_col};
+/// The index math moved to core (the pipeline maps keypoints to points with it too).
+pub use keylo_core::pixel_math::{clip_rows, cover, stride_pixel, window, wrap_col};
 pub use matched::MatchedFilter;
 pub use select::select_pixels;
 

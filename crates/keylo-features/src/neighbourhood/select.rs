@@ -4,9 +4,9 @@ use std::collections::BTreeMap;
 
 use keylo_core::{ChannelFeatures, FrameFeatures, LidarFrame};
 
-use super::index_math::{clip_rows, cover, stride_pixel, window, wrap_col};
 use super::Mapping;
 use crate::FeaturesError;
+use keylo_core::pixel_math::{clip_rows, cover, stride_pixel, window, wrap_col};
 
 /// Row-major indices (ascending, deduplicated) of the valid, positive-range frame pixels
 /// that the keypoint windows of every image select.

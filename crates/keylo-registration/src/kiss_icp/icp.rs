@@ -32,15 +32,17 @@ pub struct IcpResult {
     pub correspondences: usize,
 }
 
+/// The normal equations `JᵀWJ`, `JᵀWr` of point-to-point residuals (twist `[ρ, φ]`, left
+/// perturbation about the world origin) and their count.
 #[derive(Clone, Copy)]
-struct System {
-    jtj: Matrix6<f64>,
-    jtr: Vector6<f64>,
-    count: usize,
+pub(crate) struct System {
+    pub(crate) jtj: Matrix6<f64>,
+    pub(crate) jtr: Vector6<f64>,
+    pub(crate) count: usize,
 }
 
 impl System {
-    fn zero() -> Self {
+    pub(crate) fn zero() -> Self {
         Self {
             jtj: Matrix6::zeros(),
             jtr: Vector6::zeros(),
@@ -98,7 +100,9 @@ pub fn align(
     result
 }
 
-fn build_system(source: &[Point3<f64>], map: &VoxelHashMap, s: &IcpSettings) -> System {
+/// The system of every point of `source` (world frame) with a map neighbour closer than
+/// `s.max_distance`, Geman–McClure weighted with scale `s.kernel`.
+pub(crate) fn build_system(source: &[Point3<f64>], map: &VoxelHashMap, s: &IcpSettings) -> System {
     let partials: Vec<System> = source
         .par_chunks(CHUNK)
         .map(|chunk| chunk_system(chunk, map, s))

@@ -11,9 +11,11 @@ use keylo_core::{CoreError, PointCloud, Registrar, Registration};
 use nalgebra::{Isometry3, Point3};
 use serde::{Deserialize, Serialize};
 
+use crate::degeneracy::{self, DegeneracyConfig};
 use crate::error::{check, check_range_limits};
 use crate::{voxel, RegistrationError};
 use icp::{IcpResult, IcpSettings};
+use keylo_core::Degeneracy;
 use threshold::AdaptiveThreshold;
 use voxel_map::VoxelHashMap;
 
@@ -46,6 +48,8 @@ pub struct KissIcpConfig {
     /// Divergence guard: a frame whose pose moves more than this from the previous one (m) is
     /// rejected with an error and the state is kept; 0 disables the guard.
     pub max_motion_per_frame: f64,
+    /// Per-frame degeneracy analysis (point-to-plane information at convergence).
+    pub degeneracy: DegeneracyConfig,
 }
 
 impl Default for KissIcpConfig {
@@ -63,6 +67,7 @@ impl Default for KissIcpConfig {
             convergence_criterion: 1e-4,
             max_num_threads: 0,
             max_motion_per_frame: 5.0,
+            degeneracy: DegeneracyConfig::default(),
         }
     }
 }
@@ -135,7 +140,8 @@ impl KissIcpConfig {
             "max_motion_per_frame",
             self.max_motion_per_frame,
             "expected >= 0 (0 = no guard)",
-        )
+        )?;
+        self.degeneracy.validate()
     }
 }
 
@@ -221,10 +227,9 @@ impl KissIcp {
         Ok(())
     }
 
-    fn register_points(
-        &mut self,
-        cloud: &PointCloud,
-    ) -> Result<(IcpResult, usize), RegistrationError> {
+    /// Deskews, crops and downsamples a cloud and predicts its pose: everything before the
+    /// alignment (shared with the `hybrid` registrar).
+    pub(crate) fn prepare(&mut self, cloud: &PointCloud) -> Result<Prepared, RegistrationError> {
         let frame = self.preprocess(cloud);
         if frame.is_empty() {
             return Err(frame_step::nothing_in_range(
@@ -243,40 +248,123 @@ impl KissIcp {
         self.grid
             .downsample_into(&frame_downsample, self.voxel_size * 1.5, &mut source);
         let sigma = self.sigma();
-        let initial_guess = self.last_pose * self.last_delta;
         let settings = IcpSettings {
             max_iterations: self.config.max_num_iterations,
             convergence: self.config.convergence_criterion,
             max_distance: 3.0 * sigma,
             kernel: sigma,
         };
+        Ok(Prepared {
+            frame_downsample,
+            source,
+            guess: self.last_pose * self.last_delta,
+            settings,
+        })
+    }
+
+    /// Accepts `new_pose` for a prepared frame: divergence guard, threshold and map update,
+    /// motion model. On an error the state is as before the frame.
+    pub(crate) fn finish(
+        &mut self,
+        prepared: Prepared,
+        new_pose: &Isometry3<f64>,
+    ) -> Result<(), RegistrationError> {
+        let Prepared {
+            frame_downsample,
+            source,
+            guess,
+            ..
+        } = prepared;
+        let checked = self.check_divergence(new_pose);
+        if checked.is_ok() {
+            self.threshold.update(&(guess.inverse() * new_pose));
+            self.map.update(&frame_downsample, new_pose);
+            self.last_delta = self.last_pose.inverse() * new_pose;
+            // Unit quaternions drift off unit norm through repeated products; the error
+            // compounds geometrically through `last_pose⁻¹ · new_pose`, so renormalise every
+            // frame.
+            self.last_delta.rotation.renormalize();
+            self.last_pose = *new_pose;
+        }
+        (self.frame_downsample, self.source) = (frame_downsample, source);
+        checked
+    }
+
+    /// The local map.
+    pub(crate) fn map(&self) -> &VoxelHashMap {
+        &self.map
+    }
+
+    /// The last frame-to-frame motion (the deskew and prediction model).
+    pub(crate) fn last_delta(&self) -> &Isometry3<f64> {
+        &self.last_delta
+    }
+
+    /// The registrar's own thread pool slot.
+    pub(crate) fn pool_mut(&mut self) -> &mut Option<rayon::ThreadPool> {
+        &mut self.pool
+    }
+
+    /// The degeneracy of `source` at `pose` against the map (before the map update).
+    pub(crate) fn degeneracy(
+        &self,
+        source: &[Point3<f64>],
+        pose: &Isometry3<f64>,
+        max_distance: f64,
+    ) -> Option<Degeneracy> {
+        let c = &self.config.degeneracy;
+        if !c.analyse || self.map.is_empty() {
+            return None;
+        }
+        let info =
+            degeneracy::plane_information(source, &self.map, pose, max_distance, c.max_points);
+        Some(degeneracy::analyse(
+            &info.matrix,
+            info.residuals,
+            info.rms_range,
+            c.weak_ratio,
+        ))
+    }
+
+    fn register_points(
+        &mut self,
+        cloud: &PointCloud,
+    ) -> Result<(IcpResult, usize, Option<Degeneracy>), RegistrationError> {
+        let prepared = self.prepare(cloud)?;
         let result = icp::align(
-            &source,
+            &prepared.source,
             &self.map,
-            &initial_guess,
-            &settings,
+            &prepared.guess,
+            &prepared.settings,
             &mut self.scratch,
         );
-        let new_pose = result.pose;
-        self.check_divergence(&new_pose)?;
-        self.threshold.update(&(initial_guess.inverse() * new_pose));
-        self.map.update(&frame_downsample, &new_pose);
-        let registered = source.len();
-        (self.frame_downsample, self.source) = (frame_downsample, source);
-        self.last_delta = self.last_pose.inverse() * new_pose;
-        // Unit quaternions drift off unit norm through repeated products; the error compounds
-        // geometrically through `last_pose⁻¹ · new_pose`, so renormalise every frame.
-        self.last_delta.rotation.renormalize();
-        self.last_pose = new_pose;
-        Ok((result, registered))
+        let degeneracy = self.degeneracy(
+            &prepared.source,
+            &result.pose,
+            prepared.settings.max_distance,
+        );
+        let registered = prepared.source.len();
+        self.finish(prepared, &result.pose)?;
+        Ok((result, registered, degeneracy))
     }
+}
+
+/// A frame made ready for alignment by [`KissIcp::prepare`].
+pub(crate) struct Prepared {
+    /// The scan at half the voxel size (what enters the map).
+    pub(crate) frame_downsample: Vec<Point3<f64>>,
+    /// The points to align.
+    pub(crate) source: Vec<Point3<f64>>,
+    /// The constant-velocity prediction.
+    pub(crate) guess: Isometry3<f64>,
+    pub(crate) settings: IcpSettings,
 }
 
 impl Registrar for KissIcp {
     fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
         frame_step::reject_non_finite(cloud)?;
         let outcome = frame_step::in_own_pool(self, |s| &mut s.pool, |s| s.register_points(cloud));
-        let (result, source_points) = outcome?;
+        let (result, source_points, degeneracy) = outcome?;
         Ok(Registration {
             stamp: frame_step::end_stamp(cloud),
             pose: result.pose,
@@ -284,6 +372,7 @@ impl Registrar for KissIcp {
             iterations: result.iterations,
             // The first frame has no map to align to: nothing to converge.
             converged: result.converged || result.iterations == 0,
+            degeneracy,
         })
     }
 

@@ -118,6 +118,24 @@ impl VoxelHashMap {
         best.map(|p| (p, best_d2.sqrt()))
     }
 
+    /// The voxel edge (m).
+    pub fn voxel_size(&self) -> f64 {
+        self.voxel_size
+    }
+
+    /// Appends to `out` the map points closer than `radius` (at most one voxel edge) to
+    /// `query`, in the 27 voxels' order.
+    pub fn points_within(&self, query: &Point3<f64>, radius: f64, out: &mut Vec<Point3<f64>>) {
+        let v = voxel_of(query, self.voxel_size);
+        let r2 = radius * radius;
+        for d in NEIGHBOURS {
+            let Some(points) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
+                continue;
+            };
+            out.extend(points.iter().filter(|p| (*p - query).norm_squared() < r2));
+        }
+    }
+
     /// Nearest map point among the 27 voxels around `query`, at any distance.
     pub fn closest_neighbour(&self, query: &Point3<f64>) -> Option<(Point3<f64>, f64)> {
         self.closest_neighbour_within(query, f64::INFINITY)

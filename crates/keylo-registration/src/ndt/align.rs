@@ -1,6 +1,6 @@
 //! The NDT Newton loop with PCL's step and convergence rules (`computeTransformation`).
 
-use nalgebra::{Isometry3, Point3, Vector6, SVD};
+use nalgebra::{Isometry3, Matrix6, Point3, Vector6, SVD};
 
 use super::euler::{params_of, pose_of};
 use super::line_search::more_thuente;
@@ -47,6 +47,8 @@ pub struct NdtResult {
     pub converged: bool,
     /// Final score divided by the source size (PCL's transformation likelihood).
     pub likelihood: f64,
+    /// The score's Hessian at the final pose, w.r.t. `[x y z roll pitch yaw]`.
+    pub hessian: Matrix6<f64>,
 }
 
 /// Aligns `source` (sensor frame) to `target` from `guess`, as PCL's
@@ -116,6 +118,7 @@ pub fn align(
         iterations,
         converged,
         likelihood: d.score / n,
+        hessian: d.hessian,
     })
 }
 

@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::align::AlignSettings;
 use super::neighbours::NeighbourSearch;
 use super::voxel_grid::GridSettings;
+use crate::degeneracy::DegeneracyConfig;
 use crate::error::{check, check_range_limits};
 use crate::RegistrationError;
 
@@ -65,6 +66,9 @@ pub struct NdtConfig {
     pub max_motion_per_frame: f64,
     /// Worker threads for this registrar; 0 = the process-wide pool.
     pub max_num_threads: usize,
+    /// Per-frame degeneracy analysis (the negated NDT Hessian at convergence;
+    /// `max_points` is unused).
+    pub degeneracy: DegeneracyConfig,
 }
 
 impl Default for NdtConfig {
@@ -91,6 +95,7 @@ impl Default for NdtConfig {
             deskew: true,
             max_motion_per_frame: 5.0,
             max_num_threads: 0,
+            degeneracy: DegeneracyConfig::default(),
         }
     }
 }
@@ -213,6 +218,7 @@ impl NdtConfig {
             "max_num_threads",
             self.max_num_threads,
             "expected 0 (automatic) ..= 1024",
-        )
+        )?;
+        self.degeneracy.validate()
     }
 }

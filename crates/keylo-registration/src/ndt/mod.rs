@@ -55,6 +55,8 @@ pub struct Ndt {
     last_pose: Isometry3<f64>,
     last_delta: Isometry3<f64>,
     pool: Option<rayon::ThreadPool>,
+    /// RMS sensor range of the last source cloud (m), the rotation scale of the degeneracy.
+    rms_range: f64,
 }
 
 impl Ndt {
@@ -74,6 +76,7 @@ impl Ndt {
             last_pose: Isometry3::identity(),
             last_delta: Isometry3::identity(),
             pool,
+            rms_range: 1.0,
         })
     }
 
@@ -124,10 +127,13 @@ impl Ndt {
                 iterations: 0,
                 converged: true,
                 likelihood: 0.0,
+                hessian: nalgebra::Matrix6::zeros(),
             };
             return Ok((first, source.len()));
         };
         let guess = self.last_pose * self.last_delta;
+        let n = source.len().max(1) as f64;
+        self.rms_range = (source.iter().map(|p| p.coords.norm_squared()).sum::<f64>() / n).sqrt();
         let result = align(target, &source, &guess, &self.config.solver())?;
         self.check_divergence(&result.pose)?;
         if self.map.wants_keyframe(&result.pose) {
@@ -140,17 +146,37 @@ impl Ndt {
     }
 }
 
+impl Ndt {
+    /// The degeneracy of the negated score Hessian (an information matrix at a maximum), rotations
+    /// scaled by the RMS range of the last source.
+    fn degeneracy(&self, result: &NdtResult, points: usize) -> Option<keylo_core::Degeneracy> {
+        let c = &self.config.degeneracy;
+        if !c.analyse || result.iterations == 0 {
+            return None;
+        }
+        let info = -result.hessian;
+        Some(crate::degeneracy::analyse(
+            &info,
+            points,
+            self.rms_range,
+            c.weak_ratio,
+        ))
+    }
+}
+
 impl Registrar for Ndt {
     fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
         frame_step::reject_non_finite(cloud)?;
         let outcome = frame_step::in_own_pool(self, |s| &mut s.pool, |s| s.register_points(cloud));
         let (result, source_points) = outcome?;
+        let degeneracy = self.degeneracy(&result, source_points);
         Ok(Registration {
             stamp: frame_step::end_stamp(cloud),
             pose: result.pose,
             source_points,
             iterations: result.iterations,
             converged: result.converged,
+            degeneracy,
         })
     }
 

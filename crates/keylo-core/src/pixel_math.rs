@@ -7,6 +7,9 @@
 //! grid pixels `floor(i·grid/image) ..= ceil((i+1)·grid/image) − 1` — computed here in
 //! integers, so a 2048→1024 halving covers exactly pixels `2i` and `2i+1`. Columns wrap in
 //! azimuth (a window over the seam continues on the other side); rows are clipped.
+//!
+//! The keypoint-neighbourhood downsampler selects windows with it; the pipeline maps each
+//! keypoint to the point under it ([`crate::keypoints3d`]) with the same rules.
 
 /// The `k` consecutive pixel indices (first, last) whose centres are nearest to `centre`:
 /// for odd `k` centred on the nearest pixel, for even `k` on the nearest pixel edge.

@@ -1,0 +1,164 @@
+//! The point-to-plane information `Σ J_nᵀ J_n`, `J_n = nᵀ[I | −hat(p − c)]`, of points
+//! against a voxel map, with normals from the map points around each point's nearest
+//! neighbour. It is what point-to-plane ICP would minimise and what the geometry constrains.
+
+use nalgebra::{Isometry3, Matrix3, Matrix6, Point3, Vector3, Vector6};
+
+use crate::kiss_icp::voxel_map::VoxelHashMap;
+
+/// Map points within this many voxel edges of the neighbour fit its plane.
+const PLANE_RADIUS_VOXELS: f64 = 1.0;
+/// Fewest map points for a plane.
+const MIN_PLANE_POINTS: usize = 5;
+/// A neighbourhood is planar when its smallest covariance eigenvalue is below this fraction of
+/// the middle one.
+const PLANARITY: f64 = 0.1;
+
+/// Point-to-plane information of a cloud, in twist coordinates `[ρ, φ]` about the sensor.
+#[derive(Debug, Clone, Copy)]
+pub struct PlaneInformation {
+    pub matrix: Matrix6<f64>,
+    /// Points that found a planar neighbourhood.
+    pub residuals: usize,
+    /// RMS distance of those points from the sensor (m).
+    pub rms_range: f64,
+}
+
+/// Information of (an even stride of at most `max_points` of) `source` (sensor frame) placed
+/// at `pose` against `map`, for points whose nearest map point is closer than
+/// `max_distance`. Rotations are about the sensor position, so the matrix does not depend on
+/// how far the sensor is from the world origin.
+pub fn plane_information(
+    source: &[Point3<f64>],
+    map: &VoxelHashMap,
+    pose: &Isometry3<f64>,
+    max_distance: f64,
+    max_points: usize,
+) -> PlaneInformation {
+    let stride = source.len().div_ceil(max_points.max(1)).max(1);
+    let radius = PLANE_RADIUS_VOXELS * map.voxel_size();
+    let centre = pose.translation.vector;
+    let mut matrix = Matrix6::zeros();
+    let (mut residuals, mut range2) = (0usize, 0.0);
+    let mut near = Vec::new();
+    for p in source.iter().step_by(stride) {
+        let world = pose * p;
+        let Some((q, _)) = map.closest_neighbour_within(&world, max_distance) else {
+            continue;
+        };
+        near.clear();
+        map.points_within(&q, radius, &mut near);
+        let Some(n) = plane_normal(&near) else {
+            continue;
+        };
+        let arm = world.coords - centre;
+        let j = Vector6::new(n.x, n.y, n.z, 0.0, 0.0, 0.0) + {
+            let c = arm.cross(&n);
+            Vector6::new(0.0, 0.0, 0.0, c.x, c.y, c.z)
+        };
+        matrix += j * j.transpose();
+        residuals += 1;
+        range2 += arm.norm_squared();
+    }
+    PlaneInformation {
+        matrix,
+        residuals,
+        rms_range: (range2 / residuals.max(1) as f64).sqrt(),
+    }
+}
+
+/// Unit normal of a planar neighbourhood, `None` when too few points or not planar.
+fn plane_normal(points: &[Point3<f64>]) -> Option<Vector3<f64>> {
+    if points.len() < MIN_PLANE_POINTS {
+        return None;
+    }
+    let n = points.len() as f64;
+    let mean = points.iter().map(|p| p.coords).sum::<Vector3<f64>>() / n;
+    let cov = points
+        .iter()
+        .map(|p| {
+            let d = p.coords - mean;
+            d * d.transpose()
+        })
+        .sum::<Matrix3<f64>>()
+        / n;
+    let e = cov.symmetric_eigen();
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| e.eigenvalues[a].total_cmp(&e.eigenvalues[b]));
+    let (l0, l1) = (e.eigenvalues[order[0]], e.eigenvalues[order[1]]);
+    if !(l1 > 0.0 && l0 < PLANARITY * l1) {
+        return None;
+    }
+    Some(e.eigenvectors.column(order[0]).into_owned())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::degeneracy::analyse;
+
+    fn rnd(state: &mut u64) -> f64 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*state >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A corridor along x: two walls at y = ±2 and a floor, 40 m long.
+    fn corridor() -> Vec<Point3<f64>> {
+        let mut s = 3u64;
+        (0..9000)
+            .map(|_| {
+                let (x, b) = (rnd(&mut s) * 40.0 - 20.0, rnd(&mut s));
+                match (rnd(&mut s) * 3.0) as u32 {
+                    0 => Point3::new(x, 2.0, b * 3.0 - 1.0),
+                    1 => Point3::new(x, -2.0, b * 3.0 - 1.0),
+                    _ => Point3::new(x, b * 4.0 - 2.0, -1.0),
+                }
+            })
+            .collect()
+    }
+
+    /// A closed 10 × 8 m room with floor and ceiling.
+    fn room() -> Vec<Point3<f64>> {
+        let mut s = 5u64;
+        (0..9000)
+            .map(|_| {
+                let (a, b) = (rnd(&mut s), rnd(&mut s));
+                match (rnd(&mut s) * 6.0) as u32 {
+                    0 => Point3::new(a * 10.0 - 5.0, 4.0, b * 3.0 - 1.0),
+                    1 => Point3::new(a * 10.0 - 5.0, -4.0, b * 3.0 - 1.0),
+                    2 => Point3::new(5.0, a * 8.0 - 4.0, b * 3.0 - 1.0),
+                    3 => Point3::new(-5.0, a * 8.0 - 4.0, b * 3.0 - 1.0),
+                    4 => Point3::new(a * 10.0 - 5.0, b * 8.0 - 4.0, -1.0),
+                    _ => Point3::new(a * 10.0 - 5.0, b * 8.0 - 4.0, 2.0),
+                }
+            })
+            .collect()
+    }
+
+    fn degeneracy_of(cloud: &[Point3<f64>]) -> keylo_core::Degeneracy {
+        let mut map = VoxelHashMap::new(0.5, 100.0, 20);
+        map.update(cloud, &Isometry3::identity());
+        let info = plane_information(cloud, &map, &Isometry3::identity(), 1.0, 3000);
+        assert!(info.residuals > 1000, "{}", info.residuals);
+        let ratio = crate::degeneracy::DegeneracyConfig::default().weak_ratio;
+        analyse(&info.matrix, info.residuals, info.rms_range, ratio)
+    }
+
+    #[test]
+    fn a_corridor_is_weak_along_its_axis() {
+        let d = degeneracy_of(&corridor());
+        assert_eq!(d.weak, 1, "{d:?}");
+        let v = d.weak_directions()[0];
+        assert!(v[0].abs() > 0.99, "weak direction {v:?}");
+        assert!(d.condition > 1e3, "{}", d.condition);
+    }
+
+    #[test]
+    fn a_closed_room_is_not_degenerate() {
+        let d = degeneracy_of(&room());
+        assert_eq!(d.weak, 0, "{d:?}");
+        assert!(d.condition < 50.0, "{}", d.condition);
+    }
+}

@@ -1,0 +1,137 @@
+//! The hybrid Gauss–Newton loop: KISS-ICP's point-to-point cloud system, projected off the
+//! cloud's weak directions, plus the keypoint system; each step from [`step::solve`], in
+//! sensor-centred scaled twist coordinates `u = [ρ, L·φ]`.
+
+use nalgebra::{Isometry3, Matrix6, Point3, Vector6};
+use rayon::prelude::*;
+
+use super::keypoint_terms::{keypoint_system, Correspondences};
+use super::step::{self, StepProblem, StepSolver};
+use crate::degeneracy::scaling;
+use crate::kiss_icp::icp::{build_system, IcpSettings};
+use crate::kiss_icp::voxel_map::VoxelHashMap;
+use crate::se3;
+
+/// Everything one alignment needs besides the data.
+#[derive(Debug, Clone)]
+pub struct HybridSettings {
+    pub icp: IcpSettings,
+    pub keypoint_weight: f64,
+    pub keypoint_kernel: f64,
+    /// Unit weak directions of the cloud (scaled coordinates), weakest first.
+    pub weak: Vec<Vector6<f64>>,
+    /// Remove the cloud terms along `weak`.
+    pub project_weak: bool,
+    /// Bound the correction along `weak` by `weak_bound`.
+    pub bound_weak: bool,
+    pub weak_bound: f64,
+    pub trust_radius: f64,
+    /// Rotation scale `L` (m).
+    pub length_scale: f64,
+    pub clarabel: bool,
+}
+
+/// Result of one alignment.
+#[derive(Debug, Clone, Copy)]
+pub struct HybridResult {
+    pub pose: Isometry3<f64>,
+    pub iterations: usize,
+    pub converged: bool,
+    /// Steps Clarabel failed on and Gauss–Newton took instead.
+    pub fallbacks: usize,
+    /// Keypoint pairs with a kernel weight above ½ in the last iteration.
+    pub keypoint_inliers: usize,
+}
+
+/// `A` with `δ_world = A·δ_sensor` for twists about the world origin and about `c`.
+fn about(c: &nalgebra::Vector3<f64>) -> Matrix6<f64> {
+    let mut a = Matrix6::identity();
+    a.fixed_view_mut::<3, 3>(0, 3).copy_from(&se3::hat(c));
+    a
+}
+
+/// `I − Σ v vᵀ` over the (orthonormal) weak directions.
+fn projector(weak: &[Vector6<f64>]) -> Matrix6<f64> {
+    weak.iter()
+        .fold(Matrix6::identity(), |p, v| p - v * v.transpose())
+}
+
+/// Aligns `source` (sensor frame) to `map` and the keypoint `pairs`, from `guess`.
+pub fn align(
+    source: &[Point3<f64>],
+    map: &VoxelHashMap,
+    pairs: &Correspondences,
+    guess: &Isometry3<f64>,
+    s: &HybridSettings,
+    scratch: &mut Vec<Point3<f64>>,
+) -> HybridResult {
+    let mut result = HybridResult {
+        pose: *guess,
+        iterations: 0,
+        converged: false,
+        fallbacks: 0,
+        keypoint_inliers: 0,
+    };
+    if map.is_empty() || source.is_empty() {
+        return result;
+    }
+    scratch.clear();
+    scratch.extend(source.iter().map(|p| guess * p));
+    let scale = Matrix6::from_diagonal(&scaling(s.length_scale));
+    let project = if s.project_weak {
+        projector(&s.weak)
+    } else {
+        Matrix6::identity()
+    };
+    let bounded: &[Vector6<f64>] = if s.bound_weak { &s.weak } else { &[] };
+    let mut correction = Isometry3::identity();
+    let mut accumulated = Vector6::zeros();
+    for iteration in 1..=s.icp.max_iterations {
+        let pose = correction * guess;
+        let a = about(&pose.translation.vector);
+        let cloud = build_system(scratch, map, &s.icp);
+        let (hk, gk, inliers) = keypoint_system(pairs, &pose, s.keypoint_kernel);
+        result.iterations = iteration;
+        result.keypoint_inliers = inliers;
+        let (hc, gc) = (
+            scale * a.transpose() * cloud.jtj * a * scale,
+            scale * a.transpose() * cloud.jtr,
+        );
+        let problem = StepProblem {
+            hessian: project * hc * project + scale * hk * scale * s.keypoint_weight,
+            gradient: project * gc + scale * gk * s.keypoint_weight,
+            radius: s.trust_radius,
+            bounded,
+            bound: s.weak_bound,
+            accumulated,
+        };
+        let Some((u, how)) = step::solve(&problem, s.clarabel) else {
+            break;
+        };
+        result.fallbacks += usize::from(s.clarabel && how == StepSolver::GaussNewton);
+        accumulated += u;
+        let dx = a * scale * u;
+        let step = se3::exp(&dx);
+        scratch
+            .par_iter_mut()
+            .with_min_len(512)
+            .for_each(|p| *p = step * *p);
+        correction = step * correction;
+        correction.rotation.renormalize();
+        if dx.norm() < s.icp.convergence {
+            result.converged = true;
+            break;
+        }
+    }
+    result.pose = correction * guess;
+    result.pose.rotation.renormalize();
+    result
+}
+
+/// The weak directions of a [`keylo_core::Degeneracy`] as vectors.
+pub fn weak_vectors(d: &keylo_core::Degeneracy) -> Vec<Vector6<f64>> {
+    d.weak_directions()
+        .iter()
+        .map(|v| Vector6::from_column_slice(v))
+        .collect()
+}
