@@ -3,30 +3,32 @@
 //! (OS1-64, 512 columns: small and fast) and are edited before the pipeline sees them.
 
 use keylo::config::RawConfig;
-use keylo::{CoreError, FrameResult, LidarFrame, Odometry, Pipeline};
+use keylo::{CoreError, FrameResult, LidarFrame, Odometry};
 
 const SOURCE: &str = "[source]\nkind = 'sim'\nscene = 'lab'\nsensor = 'os1-64'\ncolumns = 512\n";
 
-/// `n` simulated frames of the lab.
-fn frames(n: usize) -> Vec<LidarFrame> {
+/// The lab simulator's `[source]` plus `extra`, resolved, with the registry it was resolved by.
+fn resolve(extra: &str) -> (keylo::Registry, keylo::config::PipelineConfig) {
     let registry = keylo::registry();
-    let text = format!("{SOURCE}frames = {n}\n");
+    let text = format!("{SOURCE}{extra}");
     let config = registry
         .resolve(&RawConfig::parse("test", &text).unwrap())
         .unwrap();
-    let mut pipeline = Pipeline::build(&config, &registry).unwrap();
-    std::iter::from_fn(|| pipeline.source.next_frame())
+    (registry, config)
+}
+
+/// `n` simulated frames of the lab.
+fn frames(n: usize) -> Vec<LidarFrame> {
+    let (registry, config) = resolve(&format!("frames = {n}\n"));
+    let mut source = keylo::build_source(&config, &registry).unwrap();
+    std::iter::from_fn(|| source.next_frame())
         .map(|f| f.unwrap())
         .collect()
 }
 
 /// The per-frame stages of a config (its `[source]` is not used).
 fn odometry(extra: &str) -> Odometry {
-    let registry = keylo::registry();
-    let text = format!("{SOURCE}{extra}");
-    let config = registry
-        .resolve(&RawConfig::parse("test", &text).unwrap())
-        .unwrap();
+    let (registry, config) = resolve(extra);
     Odometry::build(&config, &registry).unwrap()
 }
 
