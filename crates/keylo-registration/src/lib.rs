@@ -21,7 +21,7 @@ pub mod se3;
 pub mod voxel;
 
 pub use error::RegistrationError;
-pub use hybrid::{Hybrid, HybridConfig};
+pub use hybrid::{CloudResidual, Hybrid, HybridConfig};
 pub use kiss_icp::{KissIcp, KissIcpConfig};
 pub use ndt::{Ndt, NdtConfig};
 

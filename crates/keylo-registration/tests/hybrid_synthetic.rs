@@ -4,7 +4,7 @@
 use keylo_core::{
     DescriptorData, Descriptors, FrameKeypoints, ImageKeypoints, PointCloud, Registrar,
 };
-use keylo_registration::{Hybrid, HybridConfig, KissIcp, KissIcpConfig};
+use keylo_registration::{CloudResidual, Hybrid, HybridConfig, KissIcp, KissIcpConfig};
 use nalgebra::{Isometry3, Point3};
 
 struct Rng(u64);
@@ -109,13 +109,18 @@ fn icp_config() -> KissIcpConfig {
     }
 }
 
-/// Final x of hybrid (with keypoints) and plain KISS-ICP, and the truth.
-fn corridor_run(frames: usize, seed: u64) -> (Vec<Isometry3<f64>>, Vec<Isometry3<f64>>, Vec<f64>) {
+/// Poses of hybrid (with keypoints, `cloud` residuals) and plain KISS-ICP, and the truth.
+fn corridor_run_with(
+    frames: usize,
+    seed: u64,
+    cloud: CloudResidual,
+) -> (Vec<Isometry3<f64>>, Vec<Isometry3<f64>>, Vec<f64>) {
     let truth = positions(frames);
     let mut rng = Rng(seed);
     let marks = landmarks(&mut rng);
     let mut hybrid = Hybrid::new(HybridConfig {
         icp: icp_config(),
+        cloud_residual: cloud,
         ..HybridConfig::default()
     })
     .unwrap();
@@ -128,6 +133,20 @@ fn corridor_run(frames: usize, seed: u64) -> (Vec<Isometry3<f64>>, Vec<Isometry3
         k.push(kiss.register(&cloud).unwrap().pose);
     }
     (h, k, truth)
+}
+
+fn corridor_run(frames: usize, seed: u64) -> (Vec<Isometry3<f64>>, Vec<Isometry3<f64>>, Vec<f64>) {
+    corridor_run_with(frames, seed, CloudResidual::default())
+}
+
+#[test]
+fn point_to_plane_cloud_leaves_the_axis_to_the_keypoints() {
+    let (h, _, truth) = corridor_run_with(12, 1, CloudResidual::PointToPlane);
+    for (k, (p, x)) in h.iter().zip(&truth).enumerate() {
+        let err = (p.translation.x - x).abs();
+        assert!(err < 0.05, "frame {k}: x error {err:.3} m");
+        assert!(p.translation.vector.yz().norm() < 0.05, "{p}");
+    }
 }
 
 #[test]

@@ -16,6 +16,7 @@
 
 mod plane_info;
 
+pub(crate) use plane_info::least_spread_normal;
 pub use plane_info::{plane_information, PlaneInformation};
 
 use keylo_core::Degeneracy;

@@ -68,7 +68,20 @@ pub fn plane_information(
 }
 
 /// Unit normal of a planar neighbourhood, `None` when too few points or not planar.
-fn plane_normal(points: &[Point3<f64>]) -> Option<Vector3<f64>> {
+pub(crate) fn plane_normal(points: &[Point3<f64>]) -> Option<Vector3<f64>> {
+    let (n, l0, l1) = least_spread(points)?;
+    (l1 > 0.0 && l0 < PLANARITY * l1).then_some(n)
+}
+
+/// The direction in which `points` spread least (PCL's normal: the covariance's smallest
+/// eigenvector, planar or not; across a line or an edge it has no component along it), `None`
+/// with fewer than 5 points.
+pub(crate) fn least_spread_normal(points: &[Point3<f64>]) -> Option<Vector3<f64>> {
+    least_spread(points).map(|(n, ..)| n)
+}
+
+/// The covariance's smallest eigenvector and its two smallest eigenvalues.
+fn least_spread(points: &[Point3<f64>]) -> Option<(Vector3<f64>, f64, f64)> {
     if points.len() < MIN_PLANE_POINTS {
         return None;
     }
@@ -85,11 +98,9 @@ fn plane_normal(points: &[Point3<f64>]) -> Option<Vector3<f64>> {
     let e = cov.symmetric_eigen();
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| e.eigenvalues[a].total_cmp(&e.eigenvalues[b]));
-    let (l0, l1) = (e.eigenvalues[order[0]], e.eigenvalues[order[1]]);
-    if !(l1 > 0.0 && l0 < PLANARITY * l1) {
-        return None;
-    }
-    Some(e.eigenvectors.column(order[0]).into_owned())
+    let normal = e.eigenvectors.column(order[0]).into_owned();
+    normal.iter().all(|v| v.is_finite()).then_some(())?;
+    Some((normal, e.eigenvalues[order[0]], e.eigenvalues[order[1]]))
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use nalgebra::{Isometry3, Matrix6, Point3, Vector6};
 use rayon::prelude::*;
 
 use super::keypoint_terms::{keypoint_system, Correspondences};
+use super::plane_terms::{plane_system, NormalCache};
 use super::step::{self, StepProblem, StepSolver};
 use crate::degeneracy::scaling;
 use crate::kiss_icp::icp::{build_system, IcpSettings};
@@ -29,6 +30,8 @@ pub struct HybridSettings {
     /// Rotation scale `L` (m).
     pub length_scale: f64,
     pub clarabel: bool,
+    /// Point-to-plane cloud residuals instead of KISS-ICP's point-to-point.
+    pub point_to_plane: bool,
 }
 
 /// Result of one alignment.
@@ -56,15 +59,17 @@ fn projector(weak: &[Vector6<f64>]) -> Matrix6<f64> {
         .fold(Matrix6::identity(), |p, v| p - v * v.transpose())
 }
 
-/// Aligns `source` (sensor frame) to `map` and the keypoint `pairs`, from `guess`.
+/// Aligns `source` (sensor frame) to `map` and the keypoint `pairs`, from `guess`; `work`:
+/// reused point buffer and this frame's map normals.
 pub fn align(
     source: &[Point3<f64>],
     map: &VoxelHashMap,
     pairs: &Correspondences,
     guess: &Isometry3<f64>,
     s: &HybridSettings,
-    scratch: &mut Vec<Point3<f64>>,
+    work: (&mut Vec<Point3<f64>>, &mut NormalCache),
 ) -> HybridResult {
+    let (scratch, normals) = work;
     let mut result = HybridResult {
         pose: *guess,
         iterations: 0,
@@ -89,7 +94,11 @@ pub fn align(
     for iteration in 1..=s.icp.max_iterations {
         let pose = correction * guess;
         let a = about(&pose.translation.vector);
-        let cloud = build_system(scratch, map, &s.icp);
+        let cloud = if s.point_to_plane {
+            plane_system(scratch, map, &s.icp, normals)
+        } else {
+            build_system(scratch, map, &s.icp)
+        };
         let (hk, gk, inliers) = keypoint_system(pairs, &pose, s.keypoint_kernel);
         result.iterations = iteration;
         result.keypoint_inliers = inliers;

@@ -20,6 +20,20 @@ pub enum HybridSolver {
     GaussNewton,
 }
 
+/// The residual of one cloud point against the local map.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum CloudResidual {
+    /// KISS-ICP's: the distance to the nearest map point.
+    #[default]
+    PointToPoint,
+    /// The distance to the plane of the map points around the nearest one (point-to-point
+    /// where they are not planar): no pull along a wall or a corridor's axis.
+    PointToPlane,
+}
+
 /// `[registrar] kind = "hybrid"`: point-to-point cloud residuals against KISS-ICP's local map
 /// plus robust residuals of descriptor-matched keypoints of consecutive frames.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -28,6 +42,8 @@ pub struct HybridConfig {
     /// The cloud part (`[registrar.icp]`): every KISS-ICP parameter, same defaults; its
     /// `degeneracy` table also sets how weak directions are found.
     pub icp: KissIcpConfig,
+    /// `point-to-point` (KISS-ICP's) or `point-to-plane` cloud residuals.
+    pub cloud_residual: CloudResidual,
     /// Weight of one keypoint residual relative to one cloud residual.
     pub keypoint_weight: f64,
     /// Geman–McClure scale of the keypoint residuals (m).
@@ -60,6 +76,7 @@ impl Default for HybridConfig {
     fn default() -> Self {
         Self {
             icp: KissIcpConfig::default(),
+            cloud_residual: CloudResidual::PointToPoint,
             keypoint_weight: 10.0,
             keypoint_kernel: 0.3,
             keypoint_max_distance: 1.0,

@@ -13,9 +13,10 @@ pub mod align;
 mod config;
 pub mod keypoint_terms;
 pub mod matching;
+pub mod plane_terms;
 pub mod step;
 
-pub use config::{HybridConfig, HybridSolver};
+pub use config::{CloudResidual, HybridConfig, HybridSolver};
 
 use keylo_core::{CoreError, Degeneracy, FrameKeypoints, PointCloud, Registrar, Registration};
 use nalgebra::Isometry3;
@@ -31,6 +32,7 @@ pub struct Hybrid {
     icp: KissIcp,
     previous: PreviousKeypoints,
     scratch: Vec<nalgebra::Point3<f64>>,
+    normals: plane_terms::NormalCache,
 }
 
 /// What one frame gives besides the pose.
@@ -49,6 +51,7 @@ impl Hybrid {
             config,
             previous: PreviousKeypoints::default(),
             scratch: Vec::new(),
+            normals: plane_terms::NormalCache::default(),
         })
     }
 
@@ -57,14 +60,21 @@ impl Hybrid {
         self.icp.pose()
     }
 
-    /// `keypoints` deskewed as the cloud is.
-    fn deskewed(&self, keypoints: &FrameKeypoints) -> FrameKeypoints {
+    /// `keypoints` deskewed as `cloud` is: over the whole scan's time span.
+    fn deskewed(&self, keypoints: &FrameKeypoints, cloud: &PointCloud) -> FrameKeypoints {
         let mut out = keypoints.clone();
-        if self.config.icp.deskew {
-            for image in &mut out.per_image {
-                if image.times.len() == image.points.len() {
-                    deskew::deskew(&mut image.points, &image.times, self.icp.last_delta());
-                }
+        let Some(times) = cloud.times.as_deref().filter(|_| self.config.icp.deskew) else {
+            return out;
+        };
+        let span = deskew::time_span(times);
+        for image in &mut out.per_image {
+            if image.times.len() == image.points.len() {
+                deskew::deskew_in_span(
+                    &mut image.points,
+                    &image.times,
+                    span,
+                    self.icp.last_delta(),
+                );
             }
         }
         out
@@ -96,6 +106,7 @@ impl Hybrid {
             weak_bound: c.weak_bound,
             trust_radius: c.trust_radius,
             length_scale: info.rms_range.max(1.0),
+            point_to_plane: c.cloud_residual == CloudResidual::PointToPlane,
             clarabel: c.solver == HybridSolver::Clarabel,
         }
     }
@@ -105,7 +116,7 @@ impl Hybrid {
         cloud: &PointCloud,
         keypoints: &FrameKeypoints,
     ) -> Result<Outcome, RegistrationError> {
-        let keypoints = self.deskewed(keypoints);
+        let keypoints = self.deskewed(keypoints, cloud);
         let prepared = self.icp.prepare(cloud)?;
         let rules = MatchRules {
             ratio: self.config.match_ratio,
@@ -115,13 +126,14 @@ impl Hybrid {
         };
         let pairs = correspond(&keypoints, &self.previous, &prepared.guess, &rules);
         let settings = self.settings(&prepared, &pairs);
+        self.normals.clear();
         let result = align::align(
             &prepared.source,
             self.icp.map(),
             &pairs,
             &prepared.guess,
             &settings,
-            &mut self.scratch,
+            (&mut self.scratch, &mut self.normals),
         );
         tracing::debug!(
             "hybrid: {} keypoint pairs ({} inliers), {} weak direction(s) {}, {} iterations",

@@ -9,11 +9,26 @@ use crate::se3;
 
 /// Deskews `points` in place; a no-op when all times are equal.
 pub fn deskew(points: &mut [Point3<f64>], times: &[f64], last_delta: &Isometry3<f64>) {
-    let (min, max) = times
+    deskew_in_span(points, times, time_span(times), last_delta);
+}
+
+/// The earliest and latest of `times` (infinite when empty).
+pub fn time_span(times: &[f64]) -> (f64, f64) {
+    times
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
             (a.min(t), b.max(t))
-        });
+        })
+}
+
+/// [`deskew`] with the scan's time span given: for a subset of a scan (its keypoints), which
+/// must be corrected as the whole scan is, not stretched over its own span.
+pub fn deskew_in_span(
+    points: &mut [Point3<f64>],
+    times: &[f64],
+    (min, max): (f64, f64),
+    last_delta: &Isometry3<f64>,
+) {
     let span = max - min;
     if span.is_nan() || span <= 0.0 || points.len() != times.len() {
         return;

@@ -49,7 +49,7 @@ impl System {
             count: 0,
         }
     }
-    fn add(mut self, other: &System) -> Self {
+    pub(crate) fn add(mut self, other: &System) -> Self {
         self.jtj += other.jtj;
         self.jtr += other.jtr;
         self.count += other.count;

@@ -17,7 +17,7 @@ use crate::{voxel, RegistrationError};
 use icp::{IcpResult, IcpSettings};
 use keylo_core::Degeneracy;
 use threshold::AdaptiveThreshold;
-use voxel_map::VoxelHashMap;
+use voxel_map::{MapLimits, VoxelHashMap};
 
 /// `[registrar] kind = "kiss-icp"`: parameters and defaults of upstream KISS-ICP.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -33,6 +33,12 @@ pub struct KissIcpConfig {
     pub voxel_size: f64,
     /// Points kept per map voxel.
     pub max_points_per_voxel: usize,
+    /// Bound on the local map's points: beyond it the least recently seen voxels are dropped
+    /// (down to 95 %); 0 = unbounded (upstream: only the `max_range` crop bounds the map).
+    pub max_map_points: usize,
+    /// Frames a map voxel may go without a new point before it is dropped; 0 = never
+    /// (upstream). Bounds the map in a closed space, where the range crop never bites.
+    pub max_voxel_age: u64,
     /// Initial adaptive threshold σ₀ (m).
     pub initial_threshold: f64,
     /// Deviations below this (m) do not update the adaptive threshold.
@@ -60,6 +66,8 @@ impl Default for KissIcpConfig {
             deskew: true,
             voxel_size: 0.0,
             max_points_per_voxel: 20,
+            max_map_points: 2_000_000,
+            max_voxel_age: 0,
             initial_threshold: 2.0,
             min_motion_th: 0.1,
             fixed_threshold: 0.0,
@@ -118,6 +126,12 @@ impl KissIcpConfig {
             "expected 0 (= adaptive) or 0 < fixed_threshold <= 1000 m",
         )?;
         check(
+            self.max_map_points == 0 || self.max_map_points >= 1000,
+            "max_map_points",
+            self.max_map_points,
+            "expected 0 (unbounded) or >= 1000 points",
+        )?;
+        check(
             (1..=100_000).contains(&self.max_num_iterations),
             "max_num_iterations",
             self.max_num_iterations,
@@ -167,7 +181,11 @@ impl KissIcp {
         let voxel_size = config.effective_voxel_size();
         let pool = frame_step::own_pool(config.max_num_threads)?;
         Ok(Self {
-            map: VoxelHashMap::new(voxel_size, config.max_range, config.max_points_per_voxel),
+            map: VoxelHashMap::new(voxel_size, config.max_range, config.max_points_per_voxel)
+                .with_limits(MapLimits {
+                    max_points: config.max_map_points,
+                    max_age: config.max_voxel_age,
+                }),
             threshold: AdaptiveThreshold::new(
                 config.initial_threshold,
                 config.min_motion_th,

@@ -1,4 +1,12 @@
 //! The local map: a voxel hash holding up to `max_points_per_voxel` points per voxel.
+//!
+//! Upstream KISS-ICP bounds the map only by distance (voxels farther than `max_range` from the
+//! sensor are dropped). In a closed space that bound never bites, and a slowly drifting
+//! estimate smears the same walls into ever new voxels, so the map can grow without end. Two
+//! optional bounds, both by recency (each voxel remembers the last frame that put a point in
+//! it, whether or not the point was kept), close that gap: voxels unseen for more than
+//! `max_voxel_age` frames are dropped, and when the map holds more than `max_map_points`
+//! points the least recently seen voxels are dropped until it holds at most 95 % of that.
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
@@ -36,13 +44,32 @@ const NEIGHBOURS: [Voxel; 27] = [
     [-1, -1, -1],
 ];
 
-/// A voxel-hash point map, as upstream's `VoxelHashMap`.
+/// The points of one voxel and the last update that touched it.
+#[derive(Debug, Clone)]
+struct Block {
+    points: Vec<Point3<f64>>,
+    seen: u64,
+}
+
+/// Recency bounds of the map (0 = off, upstream's behaviour).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MapLimits {
+    /// Points the map may hold at most.
+    pub max_points: usize,
+    /// Updates a voxel may go without a new point before it is dropped.
+    pub max_age: u64,
+}
+
+/// A voxel-hash point map, as upstream's `VoxelHashMap`, with optional recency bounds.
 #[derive(Debug, Clone)]
 pub struct VoxelHashMap {
     voxel_size: f64,
     max_distance: f64,
     max_points_per_voxel: usize,
-    map: VoxelMap<Vec<Point3<f64>>>,
+    limits: MapLimits,
+    updates: u64,
+    len: usize,
+    map: VoxelMap<Block>,
 }
 
 impl VoxelHashMap {
@@ -52,23 +79,41 @@ impl VoxelHashMap {
             voxel_size,
             max_distance,
             max_points_per_voxel,
+            limits: MapLimits::default(),
+            updates: 0,
+            len: 0,
             map: VoxelMap::default(),
         }
     }
 
+    /// The same map with recency bounds.
+    pub fn with_limits(mut self, limits: MapLimits) -> Self {
+        self.limits = limits;
+        self
+    }
+
     /// True when the map holds no point.
     pub fn is_empty(&self) -> bool {
-        self.map.is_empty()
+        self.len == 0
     }
 
     /// Number of points in the map.
     pub fn len(&self) -> usize {
-        self.map.values().map(Vec::len).sum()
+        self.len
+    }
+
+    /// Number of voxels in the map.
+    pub fn voxels(&self) -> usize {
+        self.map.len()
     }
 
     /// Every map point.
     pub fn points(&self) -> Vec<Point3<f64>> {
-        self.map.values().flatten().copied().collect()
+        self.map
+            .values()
+            .flat_map(|b| b.points.iter())
+            .copied()
+            .collect()
     }
 
     /// Nearest map point to `query` among the 27 voxels around it, with its distance, if it is
@@ -104,10 +149,10 @@ impl VoxelHashMap {
             if gap2 >= best_d2 {
                 continue;
             }
-            let Some(points) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
+            let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
                 continue;
             };
-            for p in points {
+            for p in &block.points {
                 let d2 = (p - query).norm_squared();
                 if d2 < best_d2 {
                     best = Some(*p);
@@ -129,10 +174,15 @@ impl VoxelHashMap {
         let v = voxel_of(query, self.voxel_size);
         let r2 = radius * radius;
         for d in NEIGHBOURS {
-            let Some(points) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
+            let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
                 continue;
             };
-            out.extend(points.iter().filter(|p| (*p - query).norm_squared() < r2));
+            out.extend(
+                block
+                    .points
+                    .iter()
+                    .filter(|p| (*p - query).norm_squared() < r2),
+            );
         }
     }
 
@@ -141,39 +191,78 @@ impl VoxelHashMap {
         self.closest_neighbour_within(query, f64::INFINITY)
     }
 
-    /// Adds `points` (sensor frame) seen from `pose`, then prunes far points.
+    /// Adds `points` (sensor frame) seen from `pose`, then prunes far points and applies the
+    /// recency bounds.
     pub fn update(&mut self, points: &[Point3<f64>], pose: &Isometry3<f64>) {
+        self.updates += 1;
         let resolution2 = self.voxel_size * self.voxel_size / self.max_points_per_voxel as f64;
         for p in points {
             self.add_point(pose * p, resolution2);
         }
-        self.remove_far_from(&pose.translation.vector);
+        self.prune(&pose.translation.vector);
+        self.cap();
     }
 
     fn add_point(&mut self, point: Point3<f64>, resolution2: f64) {
         let voxel = voxel_of(&point, self.voxel_size);
         let max = self.max_points_per_voxel;
-        let block = self
-            .map
-            .entry(voxel)
-            .or_insert_with(|| Vec::with_capacity(max));
-        if block.len() >= max
+        let block = self.map.entry(voxel).or_insert_with(|| Block {
+            points: Vec::with_capacity(max),
+            seen: 0,
+        });
+        block.seen = self.updates;
+        if block.points.len() >= max
             || block
+                .points
                 .iter()
                 .any(|q| (q - point).norm_squared() < resolution2)
         {
             return;
         }
-        block.push(point);
+        block.points.push(point);
+        self.len += 1;
     }
 
-    fn remove_far_from(&mut self, origin: &Vector3<f64>) {
+    /// Drops voxels far from `origin` (upstream) and, with `max_age`, voxels unseen too long.
+    fn prune(&mut self, origin: &Vector3<f64>) {
         let max2 = self.max_distance * self.max_distance;
+        let (now, max_age) = (self.updates, self.limits.max_age);
+        let mut removed = 0;
         self.map.retain(|_, block| {
-            block
+            let keep = block
+                .points
                 .first()
                 .is_some_and(|p| (p.coords - origin).norm_squared() < max2)
+                && (max_age == 0 || now - block.seen <= max_age);
+            if !keep {
+                removed += block.points.len();
+            }
+            keep
         });
+        self.len -= removed;
+    }
+
+    /// With `max_points`, drops the least recently seen voxels (ties: by voxel index, so the
+    /// result does not depend on the hash order) until at most 95 % of the bound is left.
+    fn cap(&mut self) {
+        let bound = self.limits.max_points;
+        if bound == 0 || self.len <= bound {
+            return;
+        }
+        let target = bound - bound / 20;
+        let mut order: Vec<(u64, Voxel, usize)> = self
+            .map
+            .iter()
+            .map(|(v, b)| (b.seen, *v, b.points.len()))
+            .collect();
+        order.sort_unstable();
+        for (_, voxel, n) in order {
+            if self.len <= target {
+                break;
+            }
+            self.map.remove(&voxel);
+            self.len -= n;
+        }
     }
 }
 
@@ -252,5 +341,65 @@ mod tests {
         let far = Isometry3::translation(10.0, 0.0, 0.0);
         map.update(&[], &far);
         assert!(map.is_empty());
+    }
+
+    /// A wall of points 0.25 m apart at `x`, one per 1 m voxel row.
+    fn wall(x: f64) -> Vec<Point3<f64>> {
+        (0..20)
+            .flat_map(|i| (0..4).map(move |j| Point3::new(x, f64::from(i), f64::from(j))))
+            .collect()
+    }
+
+    #[test]
+    fn unseen_voxels_age_out() {
+        let limits = MapLimits {
+            max_points: 0,
+            max_age: 3,
+        };
+        let mut map = VoxelHashMap::new(1.0, 100.0, 20).with_limits(limits);
+        let at = Isometry3::identity();
+        map.update(&wall(0.5), &at);
+        let one_wall = map.len();
+        // A drifting estimate: the same wall lands 1 m further each update.
+        for k in 1..50 {
+            map.update(&wall(0.5 + f64::from(k)), &at);
+            assert!(map.len() <= 4 * one_wall, "update {k}: {}", map.len());
+        }
+        assert_eq!(map.len(), map.points().len());
+        // Voxels still being seen stay, however old they are.
+        let mut still = VoxelHashMap::new(1.0, 100.0, 20).with_limits(limits);
+        for _ in 0..50 {
+            still.update(&wall(0.5), &at);
+        }
+        assert_eq!(still.len(), one_wall);
+    }
+
+    #[test]
+    fn point_bound_drops_least_recently_seen() {
+        let limits = MapLimits {
+            max_points: 1000,
+            max_age: 0,
+        };
+        let mut map = VoxelHashMap::new(1.0, 1000.0, 20).with_limits(limits);
+        let at = Isometry3::identity();
+        for k in 0..40 {
+            map.update(&wall(0.5 + f64::from(k)), &at);
+            assert!(map.len() <= 1000, "update {k}: {}", map.len());
+        }
+        assert_eq!(map.len(), map.points().len());
+        assert!(map.len() >= 950 - wall(0.0).len());
+        // What is left is the newest walls.
+        let oldest = map
+            .points()
+            .iter()
+            .map(|p| p.x)
+            .fold(f64::INFINITY, f64::min);
+        assert!(oldest > 25.0, "oldest kept wall at x = {oldest}");
+        // Without bounds the map keeps everything, as upstream.
+        let mut free = VoxelHashMap::new(1.0, 1000.0, 20);
+        for k in 0..40 {
+            free.update(&wall(0.5 + f64::from(k)), &at);
+        }
+        assert_eq!(free.len(), 40 * wall(0.0).len());
     }
 }
