@@ -4,20 +4,29 @@
 # from each run's frames.csv (written frame by frame, so the table also works on a run that is
 # still going or was stopped).
 #   scripts/soak.sh [FRAMES] [OUT] [STEP]      (keylo from target/release, or $KEYLO)
+# SOAK_PIPELINES="akaze" runs (or tabulates) one pipeline only; SOAK_SET="--set K=V ..." adds
+# overrides to every run (e.g. SOAK_SET="--set registrar.max_voxel_age=300").
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 N="${1:-10000}"; OUT="${2:-/tmp/keylo-soak}"; STEP="${3:-1000}"
 K="${KEYLO:-$ROOT/target/release/keylo}"
 P="$ROOT/configs/paper"
-SIM=(--set source.kind=sim --set source.scene=lab --set source.frames="$N" --set source.columns=1024)
+PIPELINES="${SOAK_PIPELINES:-raw akaze}"
+read -r -a EXTRA <<< "${SOAK_SET:-}"
+SIM=(--set source.kind=sim --set source.scene=lab --set source.frames="$N" --set source.columns=1024 "${EXTRA[@]}")
 if [ "${SOAK_TABLE_ONLY:-0}" != 1 ]; then
   mkdir -p "$OUT"
-  /usr/bin/time -v "$K" run "$P/raw-kiss-icp.toml" "${SIM[@]}" --out "$OUT/raw" -q > "$OUT/raw.log" 2>&1 &
-  /usr/bin/time -v "$K" run "$P/indoor-akaze-kiss-icp.toml" "${SIM[@]}" --set detector.threshold=0.0001 \
-      --out "$OUT/akaze" -q > "$OUT/akaze.log" 2>&1 &
+  for run in $PIPELINES; do
+    case "$run" in
+      raw) args=("$P/raw-kiss-icp.toml") ;;
+      akaze) args=("$P/indoor-akaze-kiss-icp.toml" --set detector.threshold=0.0001) ;;
+      *) echo "unknown pipeline $run (raw, akaze)" >&2; exit 2 ;;
+    esac
+    /usr/bin/time -v "$K" run "${args[@]}" "${SIM[@]}" --out "$OUT/$run" -q > "$OUT/$run.log" 2>&1 &
+  done
   wait
 fi
-for run in raw akaze; do
+for run in $PIPELINES; do
   echo "== $run: frame, RSS MB (max over the block), map points (at its end), mean odometry ms"
   awk -F, -v step="$STEP" 'NR == 1 { next }
     { b = int($1 / step); if ($8 > rss[b]) rss[b] = $8; map[b] = $6; ms[b] += $7; n[b]++; last = b }

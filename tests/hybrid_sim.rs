@@ -8,16 +8,34 @@ use keylo::config::RawConfig;
 use keylo::eval::{evaluate, Accuracy, EvalOptions};
 use keylo::{Pipeline, Trajectory};
 
-fn example() -> String {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/examples/corridor-hybrid.toml");
+fn example_named(name: &str) -> String {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/examples").join(name);
     std::fs::read_to_string(file).unwrap()
+}
+
+fn example() -> String {
+    example_named("corridor-hybrid.toml")
+}
+
+/// The same config with KISS-ICP (the `[registrar.icp]` table becomes `[registrar]`).
+fn with_kiss_icp(text: &str) -> String {
+    let kiss_text = text.replace(
+        "[registrar]\nkind = \"hybrid\"\n\n[registrar.icp]\n",
+        "[registrar]\nkind = \"kiss-icp\"\n",
+    );
+    assert_ne!(kiss_text, text);
+    kiss_text
 }
 
 /// Runs `toml` on its first 30 frames; accuracy and the frames' weak-direction counts.
 fn run(toml: &str) -> (Accuracy, Vec<usize>) {
+    run_frames(toml, 30)
+}
+
+fn run_frames(toml: &str, frames: usize) -> (Accuracy, Vec<usize>) {
     let registry = keylo::registry();
     let mut raw = RawConfig::parse("test", toml).unwrap();
-    raw.set("source.frames=30").unwrap();
+    raw.set(&format!("source.frames={frames}")).unwrap();
     let config = registry.resolve(&raw).unwrap();
     let mut pipeline = Pipeline::build(&config, &registry).unwrap();
     let (mut est, mut weak) = (Trajectory::default(), Vec::new());
@@ -37,12 +55,7 @@ fn hybrid_runs_the_corridor_example_and_reports_degeneracy() {
     let text = example();
     let (hybrid, weak) = run(&text);
     assert_eq!(weak.len(), 29, "every frame after the first is analysed");
-    let kiss_text = text.replace(
-        "[registrar]\nkind = \"hybrid\"\n\n[registrar.icp]\n",
-        "[registrar]\nkind = \"kiss-icp\"\n",
-    );
-    assert_ne!(kiss_text, text);
-    let (kiss, kiss_weak) = run(&kiss_text);
+    let (kiss, kiss_weak) = run(&with_kiss_icp(&text));
     // The corridor is open along x once the sensor is away from its end wall: KISS-ICP's
     // analysis finds it from frame 17 on (12 of 29 frames, measured).
     let degenerate = kiss_weak.iter().filter(|w| **w > 0).count();
@@ -53,6 +66,19 @@ fn hybrid_runs_the_corridor_example_and_reports_degeneracy() {
     );
     assert!(
         hybrid.ate_rmse_m <= kiss.ate_rmse_m * 1.05,
+        "hybrid {hybrid:?} kiss {kiss:?}"
+    );
+}
+
+#[test]
+fn in_the_long_hall_hybrid_keeps_the_motion_kiss_icp_loses() {
+    // 90 frames: the end wall leaves the 10 m range at about frame 50.
+    let text = example_named("long-hall-hybrid.toml");
+    let (hybrid, _) = run_frames(&text, 90);
+    let (kiss, _) = run_frames(&with_kiss_icp(&text), 90);
+    println!("long hall: hybrid {} m, kiss-icp {} m", hybrid.ate_rmse_m, kiss.ate_rmse_m);
+    assert!(
+        hybrid.ate_rmse_m < 0.3 * kiss.ate_rmse_m,
         "hybrid {hybrid:?} kiss {kiss:?}"
     );
 }

@@ -109,19 +109,19 @@ fn icp_config() -> KissIcpConfig {
     }
 }
 
-/// Poses of hybrid (with keypoints, `cloud` residuals) and plain KISS-ICP, and the truth.
+/// Poses of hybrid (with keypoints, `config` with the test's ICP settings) and plain
+/// KISS-ICP, and the truth.
 fn corridor_run_with(
     frames: usize,
     seed: u64,
-    cloud: CloudResidual,
+    config: HybridConfig,
 ) -> (Vec<Isometry3<f64>>, Vec<Isometry3<f64>>, Vec<f64>) {
     let truth = positions(frames);
     let mut rng = Rng(seed);
     let marks = landmarks(&mut rng);
     let mut hybrid = Hybrid::new(HybridConfig {
         icp: icp_config(),
-        cloud_residual: cloud,
-        ..HybridConfig::default()
+        ..config
     })
     .unwrap();
     let mut kiss = KissIcp::new(icp_config()).unwrap();
@@ -135,13 +135,25 @@ fn corridor_run_with(
     (h, k, truth)
 }
 
+/// The first hybrid: point-to-point cloud, equal pair weights, weight 10, no gate.
+fn point_to_point_config() -> HybridConfig {
+    HybridConfig {
+        cloud_residual: CloudResidual::PointToPoint,
+        keypoint_weight: 10.0,
+        keypoint_sigma_azimuth: 0.0,
+        keypoint_gate: 0.0,
+        ..HybridConfig::default()
+    }
+}
+
 fn corridor_run(frames: usize, seed: u64) -> (Vec<Isometry3<f64>>, Vec<Isometry3<f64>>, Vec<f64>) {
-    corridor_run_with(frames, seed, CloudResidual::default())
+    corridor_run_with(frames, seed, point_to_point_config())
 }
 
 #[test]
 fn point_to_plane_cloud_leaves_the_axis_to_the_keypoints() {
-    let (h, _, truth) = corridor_run_with(12, 1, CloudResidual::PointToPlane);
+    // The defaults: point-to-plane, pairs weighted by their points' covariances, gated.
+    let (h, _, truth) = corridor_run_with(12, 1, HybridConfig::default());
     for (k, (p, x)) in h.iter().zip(&truth).enumerate() {
         let err = (p.translation.x - x).abs();
         assert!(err < 0.05, "frame {k}: x error {err:.3} m");
@@ -196,7 +208,7 @@ fn without_keypoints_in_a_closed_room_it_is_kiss_icp() {
     let mut rng = Rng(3);
     let mut hybrid = Hybrid::new(HybridConfig {
         icp: icp_config(),
-        ..HybridConfig::default()
+        ..point_to_point_config()
     })
     .unwrap();
     let mut kiss = KissIcp::new(icp_config()).unwrap();

@@ -13,12 +13,17 @@ use crate::kiss_icp::icp::{build_system, IcpSettings};
 use crate::kiss_icp::voxel_map::VoxelHashMap;
 use crate::se3;
 
+/// Stage 1 ends when it converges or after this many iterations.
+const STAGE1_MAX_ITERATIONS: usize = 50;
+
 /// Everything one alignment needs besides the data.
 #[derive(Debug, Clone)]
 pub struct HybridSettings {
     pub icp: IcpSettings,
     pub keypoint_weight: f64,
     pub keypoint_kernel: f64,
+    /// Pairs farther apart than this at the cloud-only pose are dropped (m); 0 = no stage 1.
+    pub keypoint_gate: f64,
     /// Unit weak directions of the cloud (scaled coordinates), weakest first.
     pub weak: Vec<Vector6<f64>>,
     /// Remove the cloud terms along `weak`.
@@ -69,6 +74,7 @@ pub fn align(
     s: &HybridSettings,
     work: (&mut Vec<Point3<f64>>, &mut NormalCache),
 ) -> HybridResult {
+    let pairs_all = pairs;
     let (scratch, normals) = work;
     let mut result = HybridResult {
         pose: *guess,
@@ -91,9 +97,17 @@ pub fn align(
     let bounded: &[Vector6<f64>] = if s.bound_weak { &s.weak } else { &[] };
     let mut correction = Isometry3::identity();
     let mut accumulated = Vector6::zeros();
+    // Stage 1 (with a gate): the cloud alone, until it converges. Only the pairs that agree
+    // with that pose within the gate, apart from the weak directions (where the cloud-only
+    // pose is no reference), are kept; stage 2 starts again from the prediction with the cloud
+    // and those pairs. A pair of a pattern fixed in the image (ground rings, the ego vehicle)
+    // claims "no motion" and is far off the cloud's pose.
+    let mut verified = (s.keypoint_gate <= 0.0 || pairs.is_empty()).then(|| pairs.clone());
+    let no_pairs = Correspondences::default();
     for iteration in 1..=s.icp.max_iterations {
         let pose = correction * guess;
         let a = about(&pose.translation.vector);
+        let pairs = verified.as_ref().unwrap_or(&no_pairs);
         let cloud = if s.point_to_plane {
             plane_system(scratch, map, &s.icp, normals)
         } else {
@@ -127,7 +141,17 @@ pub fn align(
             .for_each(|p| *p = step * *p);
         correction = step * correction;
         correction.rotation.renormalize();
-        if dx.norm() < s.icp.convergence {
+        let still = dx.norm() < s.icp.convergence;
+        if verified.is_none() && (still || iteration >= STAGE1_MAX_ITERATIONS) {
+            let at = correction * guess;
+            verified = Some(pairs_within(pairs_all, &at, s.keypoint_gate, &s.weak));
+            correction = Isometry3::identity();
+            accumulated = Vector6::zeros();
+            scratch.clear();
+            scratch.extend(source.iter().map(|p| guess * p));
+            continue;
+        }
+        if still {
             result.converged = true;
             break;
         }
@@ -135,6 +159,45 @@ pub fn align(
     result.pose = correction * guess;
     result.pose.rotation.renormalize();
     result
+}
+
+/// The pairs closer than `gate` at `pose`, not counting their offsets along the cloud's weak
+/// directions (their translation parts), where the cloud-only pose is no reference.
+fn pairs_within(
+    pairs: &Correspondences,
+    pose: &Isometry3<f64>,
+    gate: f64,
+    weak: &[Vector6<f64>],
+) -> Correspondences {
+    // Translation parts of the weak directions, orthonormalised: the offsets there are free.
+    let mut free: Vec<nalgebra::Vector3<f64>> = Vec::new();
+    for v in weak {
+        let mut t = v.fixed_rows::<3>(0).into_owned();
+        for f in &free {
+            t -= f * f.dot(&t);
+        }
+        if t.norm() > 0.5 {
+            free.push(t.normalize());
+        }
+    }
+    let mut out = Correspondences::default();
+    for ((p, q), info) in pairs
+        .source
+        .iter()
+        .zip(&pairs.target)
+        .zip(&pairs.information)
+    {
+        let mut r = pose * p - q;
+        for f in &free {
+            r -= f * f.dot(&r);
+        }
+        if r.norm() < gate {
+            out.source.push(*p);
+            out.target.push(*q);
+            out.information.push(*info);
+        }
+    }
+    out
 }
 
 /// The weak directions of a [`keylo_core::Degeneracy`] as vectors.

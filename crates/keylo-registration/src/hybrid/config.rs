@@ -27,10 +27,10 @@ pub enum HybridSolver {
 #[serde(rename_all = "kebab-case")]
 pub enum CloudResidual {
     /// KISS-ICP's: the distance to the nearest map point.
-    #[default]
     PointToPoint,
-    /// The distance to the plane of the map points around the nearest one (point-to-point
-    /// where they are not planar): no pull along a wall or a corridor's axis.
+    /// The distance to the plane of the map points around the nearest one (their direction
+    /// of least spread): no pull along a wall, an edge or a corridor's axis.
+    #[default]
     PointToPlane,
 }
 
@@ -44,12 +44,28 @@ pub struct HybridConfig {
     pub icp: KissIcpConfig,
     /// `point-to-point` (KISS-ICP's) or `point-to-plane` cloud residuals.
     pub cloud_residual: CloudResidual,
-    /// Weight of one keypoint residual relative to one cloud residual.
+    /// Weight of one keypoint pair relative to one cloud residual; with the noise model on, a
+    /// pair whose summed point covariance is (5 cm)² I has information I × this weight.
     pub keypoint_weight: f64,
     /// Geman–McClure scale of the keypoint residuals (m).
     pub keypoint_kernel: f64,
+    /// Angular noise of a keypoint's ray across it, horizontally (rad; about a pixel of the
+    /// image: 0.005 ≈ 0.8 px at 1024 columns). With the two below it gives each keypoint
+    /// point a covariance: an angular error moves the point along its surface, by metres on
+    /// a wall seen at a grazing angle, so pairs are weighted by their inverse summed
+    /// covariance. 0 = every pair weighted alike.
+    pub keypoint_sigma_azimuth: f64,
+    /// Angular noise of a keypoint's ray, vertically (rad; 0.02 ≈ 0.8 px of 64 rows over 90°).
+    pub keypoint_sigma_elevation: f64,
+    /// Range noise of a keypoint point (m).
+    pub keypoint_sigma_range: f64,
     /// Matched keypoints farther apart than this at the initial guess are dropped (m).
     pub keypoint_max_distance: f64,
+    /// Each frame is first aligned with the cloud alone; only the pairs closer than this at
+    /// that pose are then used (m). Drops matches of patterns fixed in the image (ground
+    /// rings, the ego vehicle, sensor artefacts), which claim "no motion"; 0 = keep every
+    /// pair and use the keypoints from the first iteration.
+    pub keypoint_gate: f64,
     /// Lowe's ratio for descriptor matches (best below ratio × second best); 1 = off.
     pub match_ratio: f64,
     /// Keep only mutual best matches.
@@ -76,10 +92,14 @@ impl Default for HybridConfig {
     fn default() -> Self {
         Self {
             icp: KissIcpConfig::default(),
-            cloud_residual: CloudResidual::PointToPoint,
-            keypoint_weight: 10.0,
+            cloud_residual: CloudResidual::PointToPlane,
+            keypoint_weight: 1.0,
             keypoint_kernel: 0.3,
+            keypoint_sigma_azimuth: 0.005,
+            keypoint_sigma_elevation: 0.02,
+            keypoint_sigma_range: 0.02,
             keypoint_max_distance: 1.0,
+            keypoint_gate: 0.3,
             match_ratio: 0.8,
             cross_check: true,
             min_matches: 10,
@@ -92,6 +112,15 @@ impl Default for HybridConfig {
 }
 
 impl HybridConfig {
+    /// The keypoint points' noise model, `None` for equal weights.
+    pub(crate) fn point_noise(&self) -> Option<super::uncertainty::PointNoise> {
+        (self.keypoint_sigma_azimuth > 0.0).then_some(super::uncertainty::PointNoise {
+            azimuth: self.keypoint_sigma_azimuth,
+            elevation: self.keypoint_sigma_elevation,
+            range: self.keypoint_sigma_range,
+        })
+    }
+
     pub(crate) fn validate(&self) -> Result<(), RegistrationError> {
         let positive = |v: f64, max: f64| v.is_finite() && v > 0.0 && v <= max;
         check(
@@ -105,6 +134,31 @@ impl HybridConfig {
             "keypoint_kernel",
             self.keypoint_kernel,
             "expected 0 < keypoint_kernel <= 100 m",
+        )?;
+        let angle = |v: f64| v.is_finite() && (0.0..=0.5).contains(&v);
+        check(
+            angle(self.keypoint_sigma_azimuth),
+            "keypoint_sigma_azimuth",
+            self.keypoint_sigma_azimuth,
+            "expected 0 (equal weights) ..= 0.5 rad",
+        )?;
+        check(
+            angle(self.keypoint_sigma_elevation),
+            "keypoint_sigma_elevation",
+            self.keypoint_sigma_elevation,
+            "expected 0 ..= 0.5 rad",
+        )?;
+        check(
+            positive(self.keypoint_sigma_range, 10.0),
+            "keypoint_sigma_range",
+            self.keypoint_sigma_range,
+            "expected 0 < keypoint_sigma_range <= 10 m",
+        )?;
+        check(
+            self.keypoint_gate.is_finite() && (0.0..=1e3).contains(&self.keypoint_gate),
+            "keypoint_gate",
+            self.keypoint_gate,
+            "expected 0 (no gate) ..= 1000 m",
         )?;
         check(
             positive(self.keypoint_max_distance, 1e3),

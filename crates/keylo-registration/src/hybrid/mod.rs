@@ -15,6 +15,7 @@ pub mod keypoint_terms;
 pub mod matching;
 pub mod plane_terms;
 pub mod step;
+pub mod uncertainty;
 
 pub use config::{CloudResidual, HybridConfig, HybridSolver};
 
@@ -100,6 +101,7 @@ impl Hybrid {
             icp: prepared.settings,
             keypoint_weight: c.keypoint_weight,
             keypoint_kernel: c.keypoint_kernel,
+            keypoint_gate: c.keypoint_gate,
             weak: align::weak_vectors(&d),
             project_weak: c.project_weak,
             bound_weak: c.weak_bound > 0.0 && pairs.len() < c.min_matches,
@@ -123,8 +125,15 @@ impl Hybrid {
             cross_check: self.config.cross_check,
             max_distance: self.config.keypoint_max_distance,
             range: (self.config.icp.min_range, self.config.icp.max_range),
+            noise: self.config.point_noise(),
         };
-        let pairs = correspond(&keypoints, &self.previous, &prepared.guess, &rules);
+        let pairs = correspond(
+            &keypoints,
+            &self.previous,
+            &prepared.guess,
+            self.icp.map(),
+            &rules,
+        );
         let settings = self.settings(&prepared, &pairs);
         self.normals.clear();
         let result = align::align(
@@ -161,7 +170,12 @@ impl Hybrid {
         );
         let registered = prepared.source.len();
         self.icp.finish(prepared, &result.pose)?;
-        self.previous = PreviousKeypoints::placed(keypoints, &result.pose);
+        self.previous = PreviousKeypoints::placed(
+            keypoints,
+            &result.pose,
+            self.icp.map(),
+            rules.noise.as_ref(),
+        );
         Ok(Outcome {
             result,
             registered,

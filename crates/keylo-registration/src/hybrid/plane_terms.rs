@@ -1,8 +1,8 @@
 //! Point-to-plane cloud residuals against the local map: `r = nᵀ(p − q)` with `q` the nearest
-//! map point and `n` the direction in which the map points within one voxel of `q` spread
-//! least (PCL's normal estimate, planar or not: across a wall-floor edge it has no component
-//! along the edge). A point with fewer than 5 map points around its neighbour gives no
-//! residual. Unlike point-to-point terms, these say nothing along a plane or an
+//! map point and `n` the normal of the map points within one voxel of `q`, when they are
+//! planar (the degeneracy analysis's test). A point whose neighbourhood is not planar (an
+//! edge, a scan line, clutter, fewer than 5 points) gives no residual: a normal fitted there
+//! points anywhere across the edge or line and would pull the wrong way. Unlike point-to-point terms, these say nothing along a plane or an
 //! edge, so in a corridor the cloud leaves the axis to the keypoints instead of pulling
 //! towards the nearest samples.
 //!
@@ -21,7 +21,7 @@ use crate::kiss_icp::voxel_map::VoxelHashMap;
 /// Points per parallel work item; sums are reduced in chunk order (thread-count independent).
 const CHUNK: usize = 512;
 
-/// Map points' normals (`None`: too few points around) for one frame, keyed by the point's bits.
+/// Map points' normals (`None`: not planar) for one frame, keyed by the point's bits.
 #[derive(Debug, Default)]
 pub struct NormalCache {
     normals: HashMap<[u64; 3], Option<Vector3<f64>>>,
@@ -75,7 +75,7 @@ pub(crate) fn plane_system(
         .filter(|q| !cache.normals.contains_key(&key(q)))
         .copied()
         .collect();
-    fresh.sort_unstable_by(|a, b| key(a).cmp(&key(b)));
+    fresh.sort_unstable_by_key(key);
     fresh.dedup();
     let computed: Vec<Option<Vector3<f64>>> = fresh
         .par_iter()
