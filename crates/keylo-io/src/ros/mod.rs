@@ -13,6 +13,7 @@ mod config;
 mod file;
 mod image;
 mod info;
+mod mcap_chunk;
 mod mcap_file;
 mod mcap_stream;
 mod merge;
