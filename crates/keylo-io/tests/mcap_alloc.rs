@@ -63,6 +63,9 @@ static ALLOCATOR: Counting = Counting;
 /// What a claimed length is set to: 400 MiB, under keylo's 512 MiB record limit.
 const HUGE: u64 = 400 << 20;
 
+/// What a string inside a record claims: 3 GiB (its length is a u32).
+const HUGE_STRING: u32 = 3 << 30;
+
 // ---- MCAP records (https://mcap.dev/spec), little-endian ----
 
 fn record(opcode: u8, body: &[u8]) -> Vec<u8> {
@@ -98,8 +101,16 @@ fn schema() -> Vec<u8> {
 }
 
 fn channel() -> Vec<u8> {
+    channel_claiming(None)
+}
+
+/// Channel 1 on `/points`; `claim` overrides the topic's length field (the record's own length
+/// stays right).
+fn channel_claiming(claim: Option<u32>) -> Vec<u8> {
     let mut body = [1u16.to_le_bytes(), 1u16.to_le_bytes()].concat();
-    body.extend(string("/points"));
+    let topic = "/points";
+    body.extend(claim.unwrap_or(topic.len() as u32).to_le_bytes());
+    body.extend(topic.as_bytes());
     body.extend(string("cdr"));
     body.extend(0u32.to_le_bytes()); // empty metadata map
     record(0x04, &body)
@@ -179,17 +190,27 @@ fn footer(summary_start: u64) -> Vec<u8> {
 /// A whole file: schema and channel, then `chunk`, then (when `summary`) a summary with the
 /// chunk's index, so it is read indexed; without, it is read in file order.
 fn file(chunk: &[u8], summary: bool) -> Vec<u8> {
+    file_with(&channel(), chunk, summary.then(channel))
+}
+
+/// As [`file`], with the channel records given: `data` before the chunk, `summary` (when
+/// `Some`) in the summary.
+fn file_with(data: &[u8], chunk: &[u8], summary: Option<Vec<u8>>) -> Vec<u8> {
     let mut out = mcap::MAGIC.to_vec();
     out.extend(header());
     out.extend(schema());
-    out.extend(channel());
+    out.extend(data);
     let pos = out.len() as u64;
     out.extend(chunk);
     out.extend(record(0x0F, &0u32.to_le_bytes()));
-    let summary_start = if summary { out.len() as u64 } else { 0 };
-    if summary {
+    let summary_start = if summary.is_some() {
+        out.len() as u64
+    } else {
+        0
+    };
+    if let Some(channel) = summary {
         out.extend(schema());
-        out.extend(channel());
+        out.extend(channel);
         out.extend(chunk_index(pos, chunk));
         out.extend(statistics());
     }
@@ -217,6 +238,12 @@ fn cases() -> Vec<(&'static str, Vec<u8>, Vec<String>)> {
     let top_chunk = [start, record_claiming(0x06, HUGE, chunk_body)].concat();
     let in_chunk = message(5, &[0u8; 64], Some(HUGE));
     let big = Some(HUGE);
+    let bad_channel = channel_claiming(Some(HUGE_STRING));
+    let topic = "`topic` (byte 4 of the record) declares 3221225472 bytes";
+    let channel_at = at - channel().len();
+    let mut bad_compression = chunk(&msgs, "zstd", None);
+    // opcode, length, start, end, uncompressed size, CRC: the compression string's length.
+    bad_compression[37..41].copy_from_slice(&HUGE_STRING.to_le_bytes());
     let words = |w: &[&str]| {
         w.iter()
             .map(|w| w.to_string())
@@ -265,15 +292,50 @@ fn cases() -> Vec<(&'static str, Vec<u8>, Vec<String>)> {
             file(&chunk(&in_chunk, "", None), false),
             in_chunk_words,
         ),
+        (
+            "huge_string",
+            file_with(&bad_channel, &chunk(&msgs, "zstd", None), None),
+            vec![format!(
+                "record at byte {channel_at} (opcode 0x04): {topic}"
+            )],
+        ),
+        (
+            // The summary is refused and the file read in file order instead.
+            "huge_string_in_summary",
+            file_with(
+                &channel(),
+                &chunk(&msgs, "zstd", None),
+                Some(bad_channel.clone()),
+            ),
+            vec!["summary unreadable".to_string(), topic.to_string()],
+        ),
+        (
+            "huge_string_in_chunk",
+            file_with(
+                &[],
+                &chunk(&[bad_channel, msgs].concat(), "zstd", None),
+                None,
+            ),
+            vec![format!("record at byte 0 of its records: {topic}")],
+        ),
+        (
+            "huge_compression_string",
+            file(&bad_compression, false),
+            vec![format!(
+                "chunk at byte {at}: `compression` (byte 28 of the record) declares 3221225472"
+            )],
+        ),
     ]
 }
 
-/// Lists `path` as `keylo info` does and reads it as source kind `mcap`: the errors of the
-/// listing (damage and first-message errors) and of the source (open or first failing frame).
+/// Lists `path` as `keylo info` does and reads it as source kind `mcap`: the notes and errors
+/// of the listing (note, damage, first-message errors) and the source's error (at open, or of
+/// the first failing frame).
 fn list_and_read(path: &Path) -> (String, String) {
     let mut listing = String::new();
     match bag_info(path) {
         Ok(info) => {
+            listing.extend(info.note);
             listing.extend(info.damage);
             for t in info.topics {
                 listing.extend(t.cloud_error);
@@ -329,11 +391,16 @@ fn claimed_lengths_allocate_only_what_the_file_holds() {
              {took:?}\n  listing: {listing}\n  source: {source}",
             bytes.len()
         );
-        // The source's error names the file, where the damage is and what it claims.
+        // The errors say where the damage is and what it claims; the source's names the file.
         let file_name = format!("{name}.mcap");
-        for w in words.iter().chain([&file_name]) {
-            if !source.contains(w.as_str()) {
-                failures.push(format!("{name}: `{w}` not in the source's error"));
+        if !source.contains(&file_name) {
+            failures.push(format!(
+                "{name}: the file's name is not in the source's error"
+            ));
+        }
+        for w in words {
+            if !source.contains(&w) && !listing.contains(&w) {
+                failures.push(format!("{name}: `{w}` is in no error"));
             }
         }
         if largest >= 1 << 20 {

@@ -10,10 +10,7 @@ use std::io::Read;
 
 use mcap::records::{op, ChunkHeader, MessageHeader, Record};
 
-use super::mcap_stream::RECORD_LIMIT;
-
-/// Bytes of a record's opcode and length.
-pub(crate) const RECORD_HEADER: usize = 9;
+use super::mcap_record::{parse, split_record, RECORD_HEADER, RECORD_LIMIT};
 
 /// The first buffer for a compressed chunk, as a multiple of its compressed size (a guess, not a
 /// limit): past it the buffer grows only as decompressed bytes arrive.
@@ -22,7 +19,7 @@ const FIRST_GUESS_RATIO: usize = 4;
 /// The records field of a chunk (`body`: the chunk record after opcode and length),
 /// decompressed and checked against the header's size and CRC.
 pub(crate) fn chunk_content(body: &[u8]) -> Result<Cow<'_, [u8]>, String> {
-    let (header, data) = match mcap::parse_record(op::CHUNK, body).map_err(|e| e.to_string())? {
+    let (header, data) = match parse(op::CHUNK, body)? {
         Record::Chunk { header, data } => (header, data),
         _ => return Err("not a chunk record".into()),
     };
@@ -111,14 +108,6 @@ fn record_at(content: &[u8], at: usize) -> Result<(usize, u8, &[u8]), String> {
     }
 }
 
-/// A record's opcode, declared length and the bytes after its header (`None`: fewer than
-/// [`RECORD_HEADER`] bytes).
-pub(crate) fn split_record(bytes: &[u8]) -> Option<(u8, u64, &[u8])> {
-    let (&opcode, rest) = bytes.split_first()?;
-    let (len, rest) = rest.split_first_chunk::<8>()?;
-    Some((opcode, u64::from_le_bytes(*len), rest))
-}
-
 /// The messages of a chunk record (`record`: opcode, length, body, as the chunk index gives
 /// it), CRC-checked before any message comes out.
 pub(crate) fn chunk_messages(record: &[u8]) -> Result<Vec<(MessageHeader, Vec<u8>)>, String> {
@@ -144,7 +133,7 @@ pub(crate) fn chunk_messages(record: &[u8]) -> Result<Vec<(MessageHeader, Vec<u8
         if opcode != op::MESSAGE {
             continue;
         }
-        match mcap::parse_record(opcode, body) {
+        match parse(opcode, body) {
             Ok(Record::Message { header, data }) => out.push((header, data.into_owned())),
             Ok(_) => {
                 return Err(format!(

@@ -1,6 +1,6 @@
-//! MCAP files: the summary through the `mcap` crate's sans-io reader, chunks and records
-//! framed by keylo (`mcap_chunk`, `mcap_stream`) so that no buffer outgrows the bytes the file
-//! holds; nothing is memory-mapped.
+//! MCAP files, read with keylo's own framing (`mcap_record`: every declared length is checked
+//! against the bytes that are there before a buffer is allocated) and the `mcap` crate's record
+//! parser; nothing is memory-mapped.
 //!
 //! With a summary (the normal case) the chunk indexes drive a lazy log-time merge: a chunk is
 //! read, CRC-checked and decompressed when its messages are next. Without one (a truncated file,
@@ -12,11 +12,11 @@ use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-use mcap::Summary;
-
 use super::file::{BagFormat, ChannelInfo, MessageFile, StoredMessage};
 use super::mcap_chunk::chunk_messages;
-use super::mcap_stream::{read_summary, Linear, RECORD_LIMIT};
+use super::mcap_record::RECORD_LIMIT;
+use super::mcap_stream::Linear;
+use super::mcap_summary::{read_summary, McapSummary};
 use super::merge::{ChunkSpan, TimeMerge};
 use super::wire::Encoding;
 use crate::IoError;
@@ -88,11 +88,11 @@ impl McapFile {
         Ok(me)
     }
 
-    fn use_summary(&mut self, s: &Summary) {
+    fn use_summary(&mut self, s: &McapSummary) {
         let counts = s.stats.as_ref().map(|st| &st.channel_message_counts);
         self.channels = s
             .channels
-            .values()
+            .iter()
             .map(|c| {
                 let count = counts.map(|m| m.get(&c.id).copied().unwrap_or(0));
                 channel_info(c, count)

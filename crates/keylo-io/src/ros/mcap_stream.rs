@@ -1,53 +1,21 @@
-//! The streaming pieces of MCAP reading: the summary through the sans-io reader, and
-//! messages in file order for files without a usable summary.
-//!
-//! In file order keylo frames the top-level records itself: a record's declared length is
-//! checked against the bytes the file has left before its buffer is allocated, and chunks are
-//! decoded by [`super::mcap_chunk`], so a corrupt length is an error naming the record, never an
-//! allocation of that length.
+//! Messages of an MCAP file in file order, for files without a usable summary. Records are
+//! framed by [`FileRecords`] (each length checked against the bytes the file has left before
+//! its buffer is allocated) and chunks decoded by [`super::mcap_chunk`], so a corrupt length
+//! is an error naming the record, never an allocation of that length.
 
 use std::borrow::Cow;
 use std::collections::VecDeque;
 use std::fs::File;
-use std::io::{BufReader, Read, Seek};
+use std::io::BufReader;
 use std::path::Path;
 
 use mcap::read::ChannelAccumulator;
 use mcap::records::{op, Record};
-use mcap::sans_io::{SummaryReadEvent, SummaryReader, SummaryReaderOptions};
-use mcap::{Message, Summary, MAGIC};
+use mcap::{Message, MAGIC};
 
-use super::mcap_chunk::{chunk_content, records, split_record, RECORD_HEADER};
+use super::mcap_chunk::{chunk_content, records};
+use super::mcap_record::{parse, FileRecords};
 use crate::IoError;
-
-/// Largest record or chunk read (compressed or not); a corrupt length beyond it is an error
-/// instead of an allocation.
-pub(crate) const RECORD_LIMIT: usize = 512 << 20;
-
-/// The summary section through the sans-io reader (reads clamped to the file size; every
-/// record length is bounded by the bytes from the summary's start to the end of the file).
-pub(crate) fn read_summary(
-    file: &mut BufReader<File>,
-    len: u64,
-) -> Result<Option<Summary>, String> {
-    let options = SummaryReaderOptions::default()
-        .with_file_size(len)
-        .with_record_length_limit(RECORD_LIMIT);
-    let mut reader = SummaryReader::new_with_options(options);
-    while let Some(event) = reader.next_event() {
-        match event.map_err(|e| e.to_string())? {
-            SummaryReadEvent::ReadRequest(need) => {
-                let n = file.read(reader.insert(need)).map_err(|e| e.to_string())?;
-                reader.notify_read(n);
-            }
-            SummaryReadEvent::SeekRequest(to) => {
-                let at = file.seek(to).map_err(|e| e.to_string())?;
-                reader.notify_seeked(at);
-            }
-        }
-    }
-    Ok(reader.finish())
-}
 
 /// The part of the file the stream is in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -63,10 +31,7 @@ enum Part {
 
 /// Messages in file order, chunk CRCs checked before a chunk's messages come out.
 pub(crate) struct Linear {
-    file: BufReader<File>,
-    len: u64,
-    /// The next byte to read.
-    pos: u64,
+    file: FileRecords<BufReader<File>>,
     part: Part,
     data_crc: crc32fast::Hasher,
     channels: ChannelAccumulator<'static>,
@@ -84,9 +49,7 @@ impl Linear {
         let file = File::open(path).map_err(|e| IoError::io(path, e))?;
         let len = file.metadata().map_err(|e| IoError::io(path, e))?.len();
         Ok(Self {
-            file: BufReader::new(file),
-            len,
-            pos: 0,
+            file: FileRecords::new(BufReader::new(file), 0, len, "file"),
             part: Part::StartMagic,
             data_crc: crc32fast::Hasher::new(),
             channels: ChannelAccumulator::default(),
@@ -111,7 +74,8 @@ impl Linear {
                 Some(Err(format!(
                     "{e} (reading near byte {}, after message {} of the file; \
                      the messages before it were read)",
-                    self.pos, self.index,
+                    self.file.pos(),
+                    self.index,
                 )))
             }
         }
@@ -136,10 +100,9 @@ impl Linear {
                     self.part = Part::Done;
                 }
                 Part::Data | Part::Summary => {
-                    let at = self.pos;
-                    let opcode = self.read_record()?;
-                    let body = std::mem::take(&mut self.body);
-                    let message = self.record(at, opcode, &body);
+                    let at = self.file.pos();
+                    let mut body = std::mem::take(&mut self.body);
+                    let message = self.record(at, &mut body);
                     self.body = body;
                     if let Some(m) = message? {
                         return Ok(Some(m));
@@ -150,15 +113,11 @@ impl Linear {
     }
 
     fn magic(&mut self, which: &str) -> Result<(), String> {
-        let at = self.pos;
-        if self.len.saturating_sub(at) < MAGIC.len() as u64 {
-            return Err(format!(
-                "the file ends at byte {} where its {which} magic (8 bytes) should be",
-                self.len
-            ));
-        }
+        let at = self.file.pos();
         let mut magic = [0u8; 8];
-        self.read(&mut magic)?;
+        self.file
+            .read_exact(&mut magic)
+            .map_err(|e| format!("no MCAP {which} magic: {e}"))?;
         if magic != MAGIC {
             return Err(format!("no MCAP {which} magic at byte {at}"));
         }
@@ -168,70 +127,21 @@ impl Linear {
         Ok(())
     }
 
-    /// Reads the record at `pos` (its body into `self.body`) and returns its opcode; its
-    /// declared length must fit in the bytes the file has left.
-    fn read_record(&mut self) -> Result<u8, String> {
-        let at = self.pos;
-        let left = self.len.saturating_sub(at);
-        if left < RECORD_HEADER as u64 {
-            return Err(format!(
-                "the file ends at byte {} before its footer ({left} bytes of a record header \
-                 at byte {at}; cut short?)",
-                self.len
-            ));
-        }
-        let mut head = [0u8; RECORD_HEADER];
-        self.read(&mut head)?;
-        let Some((opcode, len, _)) = split_record(&head) else {
-            return Err(format!("record header at byte {at} unreadable"));
-        };
-        let room = left - RECORD_HEADER as u64;
-        if len > room || len > RECORD_LIMIT as u64 {
-            let why = if len > room {
-                format!("the file has {room} bytes after its header")
-            } else {
-                format!("over the {} MiB record limit", RECORD_LIMIT >> 20)
-            };
-            return Err(format!(
-                "record at byte {at} (opcode {opcode:#04x}) declares {len} bytes, but {why}"
-            ));
-        }
-        let mut body = std::mem::take(&mut self.body);
-        body.clear();
-        body.resize(len as usize, 0);
-        let read = self.read(&mut body);
+    /// Reads and acts on the record at byte `at` (its body into `body`); a message comes back.
+    fn record(&mut self, at: u64, body: &mut Vec<u8>) -> Result<Option<Message<'static>>, String> {
+        let head = self.file.next(body)?;
+        let opcode = head[0];
         if self.part == Part::Data && opcode != op::DATA_END {
             self.data_crc.update(&head);
-            self.data_crc.update(&body);
+            self.data_crc.update(body);
         }
-        self.body = body;
-        read.map(|()| opcode)
-    }
-
-    /// Exactly `buf.len()` bytes at `pos` (the caller has checked that the file has them).
-    fn read(&mut self, buf: &mut [u8]) -> Result<(), String> {
-        self.file
-            .read_exact(buf)
-            .map_err(|e| format!("reading {} bytes at byte {}: {e}", buf.len(), self.pos))?;
-        self.pos += buf.len() as u64;
-        Ok(())
-    }
-
-    /// Acts on one top-level record (at byte `at`); a message comes back.
-    fn record(
-        &mut self,
-        at: u64,
-        opcode: u8,
-        body: &[u8],
-    ) -> Result<Option<Message<'static>>, String> {
         match (opcode, self.part) {
             (op::FOOTER, _) => {
-                mcap::parse_record(opcode, body)
-                    .map_err(|e| format!("footer at byte {at}: {e}"))?;
+                parse(opcode, body).map_err(|e| format!("footer at byte {at}: {e}"))?;
                 self.part = Part::EndMagic;
             }
             (op::DATA_END, Part::Data) => {
-                let saved = match mcap::parse_record(opcode, body) {
+                let saved = match parse(opcode, body) {
                     Ok(Record::DataEnd(d)) => d.data_section_crc,
                     Ok(_) => 0,
                     Err(e) => return Err(format!("data end record at byte {at}: {e}")),
@@ -283,8 +193,7 @@ impl Linear {
         if !matches!(opcode, op::SCHEMA | op::CHANNEL | op::MESSAGE) {
             return Ok(None);
         }
-        let record = mcap::parse_record(opcode, body).map_err(|e| e.to_string())?;
-        let linked = match record {
+        let linked = match parse(opcode, body)? {
             Record::Schema { header, data } => self.channels.add_schema_from_slice(header, &data),
             Record::Channel(channel) => self.channels.add_channel(channel),
             Record::Message { header, data } => {
