@@ -9,6 +9,10 @@
 # new inputs go to fuzz/target/work/<target>/, crashes to fuzz/artifacts/<target>/.
 # A panic, an allocation or RSS over RSS_LIMIT_MB, or one input running over TIMEOUT_S
 # seconds is a failure: the script reports every failing target and exits 1.
+#
+# FUZZ_SANITIZER=address (local runs; CI has no nightly) builds with AddressSanitizer on the
+# nightly toolchain, into fuzz/target/asan/ (so the stable build is kept), logs to
+# fuzz/target/logs/address/. Unset (or `none`): no sanitizer, stable, as in CI.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 SECONDS_PER_TARGET="${1:-15}"
@@ -26,11 +30,26 @@ else
     mapfile -t targets < targets.txt
 fi
 
-# No sanitizer: keylo's parsers are safe Rust, and `-Zsanitizer` needs nightly; with
+# Default, no sanitizer: keylo's parsers are safe Rust, and `-Zsanitizer` needs nightly; with
 # `--sanitizer none` cargo-fuzz builds on stable (no RUSTC_BOOTSTRAP). Debug assertions (-a)
 # make integer overflow a crash.
-FUZZ_FLAGS=(--sanitizer none -O -a)
-cargo +stable fuzz build "${FUZZ_FLAGS[@]}"
+case "${FUZZ_SANITIZER:-none}" in
+    none)
+        TOOLCHAIN=+stable
+        FUZZ_FLAGS=(--sanitizer none -O -a)
+        LOGS=target/logs
+        ;;
+    address)
+        TOOLCHAIN=+nightly
+        FUZZ_FLAGS=(--sanitizer address -O -a --target-dir target/asan)
+        LOGS=target/logs/address
+        ;;
+    *)
+        echo "FUZZ_SANITIZER=$FUZZ_SANITIZER: expected none or address" >&2
+        exit 2
+        ;;
+esac
+cargo "$TOOLCHAIN" fuzz build "${FUZZ_FLAGS[@]}"
 
 # Inputs big enough for a few lidar packets or messages; text and small files need less.
 max_len() {
@@ -41,12 +60,12 @@ max_len() {
 }
 
 failed=()
-mkdir -p target/logs
+mkdir -p "$LOGS"
 for t in "${targets[@]}"; do
     mkdir -p "target/work/$t" "corpus/$t" "regressions/$t"
-    log="target/logs/$t.log"
+    log="$LOGS/$t.log"
     echo "== $t: ${SECONDS_PER_TARGET} s"
-    if cargo +stable fuzz run "${FUZZ_FLAGS[@]}" "$t" "target/work/$t" "corpus/$t" "regressions/$t" -- \
+    if cargo "$TOOLCHAIN" fuzz run "${FUZZ_FLAGS[@]}" "$t" "target/work/$t" "corpus/$t" "regressions/$t" -- \
         -max_total_time="$SECONDS_PER_TARGET" -rss_limit_mb="$RSS_LIMIT_MB" \
         -timeout="$TIMEOUT_S" -max_len="$(max_len "$t")" -print_final_stats=1 > "$log" 2>&1; then
         grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$log" | tr '\n' ' '

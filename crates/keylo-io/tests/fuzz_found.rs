@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use keylo_core::{BuildContext, ImageSource};
-use keylo_io::ros::{BagFormat, BagSource, BagSourceConfig};
+use keylo_io::ros::{bag_info, BagFormat, BagSource, BagSourceConfig};
 
 fn regression(target: &str, name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -45,4 +45,25 @@ fn a_huge_declared_message_count_opens_quickly() {
     read_recording(&bag, BagFormat::Ros1Bag, limit);
     let mcap = regression("mcap", "huge_message_count");
     read_recording(&mcap, BagFormat::Mcap, limit);
+}
+
+/// A channel record whose string field claims gigabytes (found under AddressSanitizer, whose malloc
+/// limit caught it; without a sanitizer the reservation is never touched, so RSS stayed low):
+/// the mcap crate's parser reserved the claimed length before reading it. keylo now checks
+/// every length inside a record first (`tests/mcap_alloc.rs` measures the allocations).
+#[test]
+fn a_huge_string_length_inside_a_record_is_an_error() {
+    // The lengths are the sizes of the mallocs ASan refused.
+    for (target, name, claim) in [
+        ("mcap", "asan_huge_channel_string", 3_039_297_536u64),
+        ("ros1_bag", "asan_mcap_huge_channel_string", 2_543_294_359),
+    ] {
+        let path = regression(target, name);
+        let info = bag_info(&path).unwrap();
+        let said = format!("{:?} {:?}", info.note, info.damage);
+        let channel = said.contains("(opcode 0x04): `");
+        let claims = said.contains(&format!("declares {claim} bytes"));
+        assert!(channel && claims, "{said}");
+        read_recording(&path, BagFormat::Mcap, Duration::from_secs(5));
+    }
 }

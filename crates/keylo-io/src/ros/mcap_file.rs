@@ -1,4 +1,6 @@
-//! MCAP files with the `mcap` crate's streaming (sans-io) readers; nothing is memory-mapped.
+//! MCAP files, read with keylo's own framing (`mcap_record`: every declared length is checked
+//! against the bytes that are there before a buffer is allocated) and the `mcap` crate's record
+//! parser; nothing is memory-mapped.
 //!
 //! With a summary (the normal case) the chunk indexes drive a lazy log-time merge: a chunk is
 //! read, CRC-checked and decompressed when its messages are next. Without one (a truncated file,
@@ -10,12 +12,11 @@ use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-use mcap::records::{op, MessageHeader, Record};
-use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
-use mcap::Summary;
-
 use super::file::{BagFormat, ChannelInfo, MessageFile, StoredMessage};
-use super::mcap_stream::{read_summary, Linear, RECORD_LIMIT};
+use super::mcap_chunk::chunk_messages;
+use super::mcap_record::RECORD_LIMIT;
+use super::mcap_stream::Linear;
+use super::mcap_summary::{read_summary, McapSummary};
 use super::merge::{ChunkSpan, TimeMerge};
 use super::wire::Encoding;
 use crate::IoError;
@@ -87,11 +88,11 @@ impl McapFile {
         Ok(me)
     }
 
-    fn use_summary(&mut self, s: &Summary) {
+    fn use_summary(&mut self, s: &McapSummary) {
         let counts = s.stats.as_ref().map(|st| &st.channel_message_counts);
         self.channels = s
             .channels
-            .values()
+            .iter()
             .map(|c| {
                 let count = counts.map(|m| m.get(&c.id).copied().unwrap_or(0));
                 channel_info(c, count)
@@ -179,7 +180,8 @@ impl McapFile {
 }
 
 impl Source {
-    /// The selected messages of the chunk at `span.pos` (`span.length` bytes), CRC-checked.
+    /// The selected messages of the chunk at `span.pos` (`span.length` bytes, which must be in
+    /// the file), CRC-checked.
     fn load(&mut self, span: &ChunkSpan, out: &mut Vec<StoredMessage>) -> Result<(), IoError> {
         let (pos, length) = (span.pos, span.length);
         let fail = |m: String| IoError::format(&self.path, format!("chunk at byte {pos}: {m}"));
@@ -194,56 +196,20 @@ impl Source {
             .seek(SeekFrom::Start(pos))
             .and_then(|_| self.file.read_exact(&mut buf))
             .map_err(|e| IoError::io(&self.path, e))?;
-        if buf[0] != op::CHUNK {
-            return Err(fail(format!(
-                "expected a chunk record (opcode 0x06), found 0x{:02x}",
-                buf[0]
-            )));
-        }
-        // The sans-io reader bounds every length by RECORD_LIMIT (mcap's ChunkReader does not,
-        // and reserves what a corrupt length says) and checks the CRC before any record.
-        for record in chunk_records(&buf).map_err(fail)? {
-            let channel = u32::from(record.0.channel_id);
+        // keylo decodes the chunk itself: the mcap readers size buffers from the declared
+        // lengths (uncompressed size, record lengths) before the bytes exist.
+        for (header, data) in chunk_messages(&buf).map_err(fail)? {
+            let channel = u32::from(header.channel_id);
             if self.wanted.contains(&channel) {
                 out.push(StoredMessage {
                     channel,
-                    log_time: record.0.log_time,
-                    data: record.1,
+                    log_time: header.log_time,
+                    data,
                 });
             }
         }
         Ok(())
     }
-}
-
-/// The messages of one chunk record (`buf` = opcode, length, body), CRC-checked first.
-fn chunk_records(buf: &[u8]) -> Result<Vec<(MessageHeader, Vec<u8>)>, String> {
-    let options = LinearReaderOptions::default()
-        .with_skip_start_magic(true)
-        .with_skip_end_magic(true)
-        .with_prevalidate_chunk_crcs(true)
-        .with_record_length_limit(RECORD_LIMIT);
-    let mut reader = LinearReader::new_with_options(options);
-    let mut input = buf;
-    let mut out = Vec::new();
-    while let Some(event) = reader.next_event() {
-        match event.map_err(|e| e.to_string())? {
-            LinearReadEvent::ReadRequest(n) => {
-                let k = n.min(input.len());
-                reader.insert(k).copy_from_slice(&input[..k]);
-                reader.notify_read(k);
-                input = &input[k..];
-            }
-            LinearReadEvent::Record { opcode, data } if opcode == op::MESSAGE => {
-                match mcap::parse_record(opcode, data).map_err(|e| e.to_string())? {
-                    Record::Message { header, data } => out.push((header, data.into_owned())),
-                    _ => return Err("a message record that does not parse".into()),
-                }
-            }
-            LinearReadEvent::Record { .. } => {}
-        }
-    }
-    Ok(out)
 }
 
 fn span_range(spans: impl Iterator<Item = ChunkSpan>) -> Option<(u64, u64)> {

@@ -1,15 +1,23 @@
 use std::collections::BTreeMap;
 use std::io::Cursor;
 
-use mcap::records::MessageHeader;
+use mcap::records::{op, MessageHeader};
 
 use super::*;
 
 /// An mcap with channels 1 (/a) and 2 (/b), one message per `(channel, log_time)`, chunks of
 /// about `chunk` bytes (messages are 100 bytes of noise so chunks do not shrink much).
 fn mcap_bytes(msgs: &[(u16, u64)], chunk: u64) -> Vec<u8> {
+    mcap_bytes_with(msgs, chunk, Some(mcap::Compression::Zstd))
+}
+
+fn mcap_bytes_with(
+    msgs: &[(u16, u64)],
+    chunk: u64,
+    compression: Option<mcap::Compression>,
+) -> Vec<u8> {
     let opts = mcap::WriteOptions::new()
-        .compression(Some(mcap::Compression::Zstd))
+        .compression(compression)
         .chunk_size(Some(chunk));
     let mut w = opts.create(Cursor::new(Vec::new())).unwrap();
     let schema = w
@@ -138,4 +146,80 @@ fn truncated_files_are_read_in_file_order_up_to_the_cut() {
     );
     // Reading again starts over.
     assert_eq!(read_all(&mut f, "/a").len(), got.len());
+}
+
+/// Offsets and opcodes of the top-level records (after the start magic).
+fn top_records(bytes: &[u8]) -> Vec<(usize, u8)> {
+    let mut out = Vec::new();
+    let mut at = 8;
+    while at + 9 <= bytes.len() {
+        let len = u64::from_le_bytes(bytes[at + 1..at + 9].try_into().unwrap()) as usize;
+        out.push((at, bytes[at]));
+        if bytes[at] == op::FOOTER {
+            break;
+        }
+        at += 9 + len;
+    }
+    out
+}
+
+#[test]
+fn file_order_reads_every_message_and_checks_the_data_section_crc() {
+    let bytes = mcap_bytes(&messages(), 1000);
+    let records = top_records(&bytes);
+    let (data_end, _) = *records.iter().find(|r| r.1 == op::DATA_END).unwrap();
+    // Cut after the data end record: no footer, so the file is read in file order.
+    let cut = &bytes[..data_end + 9 + 4];
+    let (_d, mut f) = open(cut);
+    assert!(f.note().unwrap().contains("summary"), "{:?}", f.note());
+    let got = read_all(&mut f, "/a");
+    assert_eq!(got.iter().filter(|r| r.is_ok()).count(), 21);
+    let err = got.last().unwrap().as_ref().unwrap_err();
+    assert!(err.contains("before its footer"), "{err}");
+
+    // A changed byte in the header record (outside every chunk): only the data section CRC
+    // sees it, once every message has been read.
+    let mut bad = cut.to_vec();
+    let last = records[1].0 - 1; // the header record's last byte (its library string)
+    bad[last] ^= 0x01;
+    let (_d, mut f) = open(&bad);
+    let got = read_all(&mut f, "/a");
+    assert_eq!(got.iter().filter(|r| r.is_ok()).count(), 21);
+    let err = got.last().unwrap().as_ref().unwrap_err();
+    assert!(err.contains("data section CRC mismatch"), "{err}");
+}
+
+#[test]
+fn file_order_reads_give_a_chunks_messages_before_its_bad_record() {
+    // One uncompressed chunk; its CRC zeroed (not checked), its third message moved to an
+    // unknown channel; cut after the data end record, so it is read in file order.
+    let mut bytes = mcap_bytes_with(&messages(), 1 << 20, None);
+    let records = top_records(&bytes);
+    let (chunk, _) = *records.iter().find(|r| r.1 == op::CHUNK).unwrap();
+    let (data_end, _) = *records.iter().find(|r| r.1 == op::DATA_END).unwrap();
+    bytes.truncate(data_end + 9 + 4);
+    bytes[chunk + 33..chunk + 37].fill(0);
+    // Opcode, length, start, end, size, CRC, compression "" (4), compressed size: the records.
+    let start = chunk + 9 + 8 + 8 + 8 + 4 + 4 + 8;
+    let mut at = start;
+    let mut seen = 0;
+    while seen < 3 {
+        if bytes[at] == op::MESSAGE {
+            seen += 1;
+        }
+        if seen < 3 {
+            at += 9 + u64::from_le_bytes(bytes[at + 1..at + 9].try_into().unwrap()) as usize;
+        }
+    }
+    bytes[at + 9..at + 11].copy_from_slice(&99u16.to_le_bytes());
+    let (_d, mut f) = open(&bytes);
+    let got = read_all(&mut f, "/a");
+    assert_eq!(got.len(), 2, "{got:?}");
+    assert_eq!(got[0], Ok(0));
+    let err = got[1].as_ref().unwrap_err();
+    let want = format!(
+        "chunk at byte {chunk}: record at byte {} of its records",
+        at - start
+    );
+    assert!(err.contains(&want) && err.contains("channel 99"), "{err}");
 }

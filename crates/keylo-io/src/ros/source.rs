@@ -63,7 +63,9 @@ impl BagSource {
         let path = file.path().to_path_buf();
         let err = |m: String| IoError::format(&path, m);
         let all = topics(file.channels());
-        let cloud = cloud_topic(&all, &config.topic).map_err(err)?.clone();
+        let cloud = cloud_topic(&all, &config.topic)
+            .map_err(|m| err(with_damage(m, file.damage())))?
+            .clone();
         let mut queues = Vec::new();
         let mut channels = Vec::new();
         for (channel, name, key) in config.images.selected() {
@@ -273,6 +275,15 @@ impl BagSource {
             *target = values;
         }
         Ok(())
+    }
+}
+
+/// A topic error on a damaged file also says where the listing stopped (a file without index is
+/// listed by reading it, so topics after the damage are unknown).
+fn with_damage(message: String, damage: Option<&str>) -> String {
+    match damage {
+        Some(d) => format!("{message} (the file was listed up to its damage: {d})"),
+        None => message,
     }
 }
 
