@@ -9,7 +9,9 @@ use keylo::eval::{evaluate, Accuracy, EvalOptions};
 use keylo::{Pipeline, Trajectory};
 
 fn example_named(name: &str) -> String {
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/examples").join(name);
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("configs/examples")
+        .join(name);
     std::fs::read_to_string(file).unwrap()
 }
 
@@ -76,7 +78,10 @@ fn in_the_long_hall_hybrid_keeps_the_motion_kiss_icp_loses() {
     let text = example_named("long-hall-hybrid.toml");
     let (hybrid, _) = run_frames(&text, 90);
     let (kiss, _) = run_frames(&with_kiss_icp(&text), 90);
-    println!("long hall: hybrid {} m, kiss-icp {} m", hybrid.ate_rmse_m, kiss.ate_rmse_m);
+    println!(
+        "long hall: hybrid {} m, kiss-icp {} m",
+        hybrid.ate_rmse_m, kiss.ate_rmse_m
+    );
     assert!(
         hybrid.ate_rmse_m < 0.3 * kiss.ate_rmse_m,
         "hybrid {hybrid:?} kiss {kiss:?}"

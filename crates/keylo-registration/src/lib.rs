@@ -18,6 +18,8 @@ pub mod hybrid;
 pub mod kiss_icp;
 pub mod ndt;
 pub mod se3;
+#[cfg(test)]
+mod test_scenes;
 pub mod voxel;
 
 pub use error::RegistrationError;

@@ -108,26 +108,11 @@ mod tests {
     use super::*;
     use crate::degeneracy::analyse;
 
-    fn rnd(state: &mut u64) -> f64 {
-        *state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (*state >> 11) as f64 / (1u64 << 53) as f64
-    }
+    use crate::test_scenes::rnd;
 
     /// A corridor along x: two walls at y = ±2 and a floor, 40 m long.
     fn corridor() -> Vec<Point3<f64>> {
-        let mut s = 3u64;
-        (0..9000)
-            .map(|_| {
-                let (x, b) = (rnd(&mut s) * 40.0 - 20.0, rnd(&mut s));
-                match (rnd(&mut s) * 3.0) as u32 {
-                    0 => Point3::new(x, 2.0, b * 3.0 - 1.0),
-                    1 => Point3::new(x, -2.0, b * 3.0 - 1.0),
-                    _ => Point3::new(x, b * 4.0 - 2.0, -1.0),
-                }
-            })
-            .collect()
+        crate::test_scenes::corridor(3, 9000, 40.0)
     }
 
     /// A closed 10 × 8 m room with floor and ceiling.

@@ -133,26 +133,9 @@ mod tests {
     use super::*;
     use nalgebra::Isometry3;
 
-    fn rnd(state: &mut u64) -> f64 {
-        *state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (*state >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Two walls at y = ±2 and a floor, along x.
+    /// Two walls at y = ±2 and a floor, along x, 20 m.
     fn corridor(seed: u64) -> Vec<Point3<f64>> {
-        let mut s = seed;
-        (0..6000)
-            .map(|_| {
-                let (x, b) = (rnd(&mut s) * 20.0 - 10.0, rnd(&mut s));
-                match (rnd(&mut s) * 3.0) as u32 {
-                    0 => Point3::new(x, 2.0, b * 3.0 - 1.0),
-                    1 => Point3::new(x, -2.0, b * 3.0 - 1.0),
-                    _ => Point3::new(x, b * 4.0 - 2.0, -1.0),
-                }
-            })
-            .collect()
+        crate::test_scenes::corridor(seed, 6000, 20.0)
     }
 
     fn settings() -> IcpSettings {
