@@ -72,3 +72,22 @@ fn ndt_is_bit_identical_across_thread_counts() {
         "NDT on one thread and on three differ"
     );
 }
+
+#[test]
+fn hybrid_is_bit_identical_across_thread_counts() {
+    // Point-to-plane residuals with the per-frame normal cache, keypoint pairs with their
+    // covariances and the two-stage gate: every parallel part is chunk-ordered.
+    let hybrid = "[source]\nscene = 'corridor'\nframes = 12\n\
+        [image]\nkind = 'lidar'\nimages = ['signal', 'range']\n\
+        [detector]\nkind = 'fast'\nthreshold = 10\n\
+        [descriptor]\nkind = 'freak'\n\
+        [downsampler]\nkind = 'passthrough'\n\
+        [registrar]\nkind = 'hybrid'\n";
+    let one = run_config(hybrid, 1);
+    assert_eq!(one.len(), 12);
+    assert_eq!(
+        one,
+        run_config(hybrid, 3),
+        "hybrid on one thread and on three differ"
+    );
+}
