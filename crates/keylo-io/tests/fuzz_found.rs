@@ -67,3 +67,17 @@ fn a_huge_string_length_inside_a_record_is_an_error() {
         read_recording(&path, BagFormat::Mcap, Duration::from_secs(5));
     }
 }
+
+/// `"lidar_mode": "1024810"` (no data format) read as 1 024 810 columns: the XYZ table for
+/// them took over 2 GB. Columns and rows are now bounded by what Ouster sensors have.
+#[test]
+fn a_lidar_mode_of_a_million_columns_is_an_error() {
+    let path = regression("ouster_metadata", "lidar_mode_1024810");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let err = keylo_io::ouster::OusterMetadata::parse(&path, &text)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("1024810 columns"), "{err}");
+    assert!(err.contains("at most 4096"), "{err}");
+    assert!(err.contains("lidar_mode_1024810"), "{err}");
+}

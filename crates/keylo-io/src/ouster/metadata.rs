@@ -315,6 +315,16 @@ impl OusterMetadata {
                 ));
             }
         }
+        if self.columns_per_frame > MAX_COLUMNS || rows > MAX_ROWS {
+            return Err(IoError::format(
+                path,
+                format!(
+                    "{} columns x {rows} rows per frame: Ouster sensors have at most {MAX_COLUMNS} \
+                     columns (lidar mode 4096x5) and {MAX_ROWS} rows",
+                    self.columns_per_frame
+                ),
+            ));
+        }
         let (first, last) = self.column_window;
         if rows == 0
             || self.columns_per_frame == 0
@@ -333,6 +343,11 @@ impl OusterMetadata {
         Ok(())
     }
 }
+
+/// The most columns per frame of any Ouster lidar mode (`4096x5`).
+const MAX_COLUMNS: usize = 4096;
+/// Rows per frame accepted (Ouster sensors have at most 128 beams).
+const MAX_ROWS: usize = 256;
 
 fn missing(node: &Node, key: &str) -> IoError {
     let path = if node.path.is_empty() {
