@@ -2,6 +2,8 @@
 //! cloud's weak directions, plus the keypoint system; each step from [`step::solve`], in
 //! sensor-centred scaled twist coordinates `u = [ρ, L·φ]`.
 
+use std::borrow::Cow;
+
 use nalgebra::{Isometry3, Matrix6, Point3, Vector6};
 use rayon::prelude::*;
 
@@ -74,7 +76,6 @@ pub fn align(
     s: &HybridSettings,
     work: (&mut Vec<Point3<f64>>, &mut NormalCache),
 ) -> HybridResult {
-    let pairs_all = pairs;
     let (scratch, normals) = work;
     let mut result = HybridResult {
         pose: *guess,
@@ -102,18 +103,18 @@ pub fn align(
     // pose is no reference), are kept; stage 2 starts again from the prediction with the cloud
     // and those pairs. A pair of a pattern fixed in the image (ground rings, the ego vehicle)
     // claims "no motion" and is far off the cloud's pose.
-    let mut verified = (s.keypoint_gate <= 0.0 || pairs.is_empty()).then(|| pairs.clone());
-    let no_pairs = Correspondences::default();
+    let mut verified = (s.keypoint_gate <= 0.0 || pairs.is_empty()).then_some(Cow::Borrowed(pairs));
+    let no_pairs = Cow::Owned(Correspondences::default());
     for iteration in 1..=s.icp.max_iterations {
         let pose = correction * guess;
         let a = about(&pose.translation.vector);
-        let pairs = verified.as_ref().unwrap_or(&no_pairs);
+        let in_use = verified.as_ref().unwrap_or(&no_pairs);
         let cloud = if s.point_to_plane {
             plane_system(scratch, map, &s.icp, normals)
         } else {
             build_system(scratch, map, &s.icp)
         };
-        let (hk, gk, inliers) = keypoint_system(pairs, &pose, s.keypoint_kernel);
+        let (hk, gk, inliers) = keypoint_system(in_use, &pose, s.keypoint_kernel);
         result.iterations = iteration;
         result.keypoint_inliers = inliers;
         let (hc, gc) = (
@@ -144,7 +145,12 @@ pub fn align(
         let still = dx.norm() < s.icp.convergence;
         if verified.is_none() && (still || iteration >= STAGE1_MAX_ITERATIONS) {
             let at = correction * guess;
-            verified = Some(pairs_within(pairs_all, &at, s.keypoint_gate, &s.weak));
+            verified = Some(Cow::Owned(pairs_within(
+                pairs,
+                &at,
+                s.keypoint_gate,
+                &s.weak,
+            )));
             correction = Isometry3::identity();
             accumulated = Vector6::zeros();
             scratch.clear();

@@ -1,9 +1,10 @@
 //! Point-to-plane cloud residuals against the local map: `r = nᵀ(p − q)` with `q` the nearest
-//! map point and `n` the normal of the map points within one voxel of `q`, when they are
-//! planar (the degeneracy analysis's test). A point whose neighbourhood is not planar (an
-//! edge, a scan line, clutter, fewer than 5 points) gives no residual: a normal fitted there
-//! points anywhere across the edge or line and would pull the wrong way. Unlike point-to-point terms, these say nothing along a plane or an
-//! edge, so in a corridor the cloud leaves the axis to the keypoints instead of pulling
+//! map point and `n` the direction in which the map points within one voxel of `q` spread
+//! least (PCL's normal estimate, planar or not: across a wall-floor edge or a scan line it has
+//! no component along it). A point whose neighbour has fewer than 5 map points around it gives
+//! no residual: there the map is sparse, mostly at its frontier, where a point-to-point pull
+//! would point back into the map. Unlike point-to-point terms, these say nothing along a plane
+//! or an edge, so in a corridor the cloud leaves the axis to the keypoints instead of pulling
 //! towards the nearest samples.
 //!
 //! Normals are computed once per map point and frame ([`NormalCache`]), since the nearest
@@ -21,11 +22,11 @@ use crate::kiss_icp::voxel_map::VoxelHashMap;
 /// Points per parallel work item; sums are reduced in chunk order (thread-count independent).
 const CHUNK: usize = 512;
 
-/// Map points' normals (`None`: not planar) for one frame, keyed by the point's bits.
+/// Map points' normals ([`normal_at`]; `None`: too few points around) for one frame, keyed by
+/// the point's bits.
 #[derive(Debug, Default)]
 pub struct NormalCache {
     normals: HashMap<[u64; 3], Option<Vector3<f64>>>,
-    near: Vec<Point3<f64>>,
 }
 
 fn key(q: &Point3<f64>) -> [u64; 3] {
@@ -37,17 +38,18 @@ impl NormalCache {
     pub fn clear(&mut self) {
         self.normals.clear();
     }
+}
 
-    fn normal(&mut self, map: &VoxelHashMap, q: &Point3<f64>) -> Option<Vector3<f64>> {
-        if let Some(n) = self.normals.get(&key(q)) {
-            return *n;
-        }
-        self.near.clear();
-        map.points_within(q, map.voxel_size(), &mut self.near);
-        let n = least_spread_normal(&self.near);
-        self.normals.insert(key(q), n);
-        n
-    }
+/// The normal of the map around its point `q`: the direction of least spread of the map
+/// points within one voxel of it; `near` is scratch.
+pub(crate) fn normal_at(
+    map: &VoxelHashMap,
+    q: &Point3<f64>,
+    near: &mut Vec<Point3<f64>>,
+) -> Option<Vector3<f64>> {
+    near.clear();
+    map.points_within(q, map.voxel_size(), near);
+    least_spread_normal(near)
 }
 
 /// The normal equations (twist about the world origin, as [`crate::kiss_icp::icp`]) of
@@ -68,7 +70,8 @@ pub(crate) fn plane_system(
                 .map(|(q, _)| q)
         })
         .collect();
-    // Normals of neighbours not seen yet this frame, in parallel, then cached.
+    // Normals of neighbours not seen yet this frame, in parallel, then cached: afterwards the
+    // cache holds every neighbour's.
     let mut fresh: Vec<Point3<f64>> = pairs
         .iter()
         .flatten()
@@ -80,18 +83,14 @@ pub(crate) fn plane_system(
     let computed: Vec<Option<Vector3<f64>>> = fresh
         .par_iter()
         .with_min_len(64)
-        .map_init(Vec::new, |near, q| {
-            near.clear();
-            map.points_within(q, map.voxel_size(), near);
-            least_spread_normal(near)
-        })
+        .map_init(Vec::new, |near, q| normal_at(map, q, near))
         .collect();
     for (q, n) in fresh.iter().zip(computed) {
         cache.normals.insert(key(q), n);
     }
     let normals: Vec<Option<Vector3<f64>>> = pairs
         .iter()
-        .map(|q| q.and_then(|q| cache.normal(map, &q)))
+        .map(|q| q.and_then(|q| cache.normals.get(&key(&q)).copied().flatten()))
         .collect();
     let partials: Vec<System> = source
         .par_chunks(CHUNK)

@@ -8,7 +8,7 @@
 
 use nalgebra::{Matrix3, Point3, Vector3};
 
-use crate::degeneracy::least_spread_normal;
+use super::plane_terms::normal_at;
 use crate::kiss_icp::voxel_map::VoxelHashMap;
 
 /// A pair whose summed covariance is `σ₀² I` has information `I` (as one cloud residual).
@@ -74,9 +74,7 @@ pub fn map_normal(
     near: &mut Vec<Point3<f64>>,
 ) -> Option<Vector3<f64>> {
     let (q, _) = map.closest_neighbour_within(p, map.voxel_size())?;
-    near.clear();
-    map.points_within(&q, map.voxel_size(), near);
-    least_spread_normal(near)
+    normal_at(map, &q, near)
 }
 
 /// The information `σ₀² (Σ_a + Σ_b)⁻¹` of a pair; `None` when not invertible.

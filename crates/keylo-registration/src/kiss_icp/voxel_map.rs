@@ -102,11 +102,6 @@ impl VoxelHashMap {
         self.len
     }
 
-    /// Number of voxels in the map.
-    pub fn voxels(&self) -> usize {
-        self.map.len()
-    }
-
     /// Every map point.
     pub fn points(&self) -> Vec<Point3<f64>> {
         self.map
