@@ -87,3 +87,44 @@ fn in_the_long_hall_hybrid_keeps_the_motion_kiss_icp_loses() {
         "hybrid {hybrid:?} kiss {kiss:?}"
     );
 }
+
+/// NDT's degeneracy reports of a simulated scene: per analysed frame, its number and
+/// weakest direction.
+fn ndt_degeneracy(scene_lines: &str, frames: usize) -> Vec<(usize, keylo_core::Degeneracy)> {
+    let toml = format!(
+        "[source]\nkind = \"sim\"\n{scene_lines}\nframes = {frames}\n\n\
+         [downsampler]\nkind = \"passthrough\"\n\n[registrar]\nkind = \"ndt\"\n"
+    );
+    let registry = keylo::registry();
+    let raw = RawConfig::parse("test", &toml).unwrap();
+    let config = registry.resolve(&raw).unwrap();
+    let mut pipeline = Pipeline::build(&config, &registry).unwrap();
+    let mut out = Vec::new();
+    let mut frame = 0;
+    while let Some(result) = pipeline.step() {
+        if let Some(d) = result.unwrap().degeneracy {
+            out.push((frame, d));
+        }
+        frame += 1;
+    }
+    out
+}
+
+#[test]
+fn ndt_flags_the_long_hall_along_its_axis_and_not_the_lab() {
+    // The end wall leaves the 10 m range at about frame 50 (measured: NDT flags every frame
+    // from 60 on, and none before, on 200 frames).
+    let hall = ndt_degeneracy("scene = \"corridor\"\nmax_range_m = 10.0", 90);
+    assert_eq!(hall.len(), 89);
+    for (frame, d) in &hall {
+        let weak_along_x = d.weak >= 1 && d.weak_directions()[0][0].abs() > 0.9;
+        match frame {
+            0..=40 => assert_eq!(d.weak, 0, "frame {frame}: {d:?}"),
+            65.. => assert!(weak_along_x, "frame {frame}: {d:?}"),
+            _ => {}
+        }
+    }
+    let lab = ndt_degeneracy("scene = \"lab\"", 30);
+    assert_eq!(lab.len(), 29);
+    assert!(lab.iter().all(|(_, d)| d.weak == 0), "{lab:?}");
+}

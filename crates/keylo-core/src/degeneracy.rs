@@ -3,8 +3,8 @@
 
 use serde::Serialize;
 
-/// Eigen-analysis of a registration's 6×6 information matrix (`JᵀWJ`, or the negated NDT
-/// Hessian) at convergence.
+/// Eigen-analysis of a registration's 6×6 information matrix at convergence (keylo's
+/// registrars: the point-to-plane `JᵀJ` of the aligned cloud against their map).
 ///
 /// Coordinates are the twist `[tx, ty, tz, L·rx, L·ry, L·rz]` of a world-frame perturbation:
 /// rotations are scaled by the length `L` (`length_scale`, the RMS range of the points) so

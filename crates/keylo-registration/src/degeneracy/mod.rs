@@ -16,8 +16,8 @@
 
 mod plane_info;
 
-pub(crate) use plane_info::least_spread_normal;
-pub use plane_info::{plane_information, PlaneInformation};
+pub use plane_info::{information_with_normals, plane_information, PlaneInformation};
+pub(crate) use plane_info::{least_spread_normal, PLANARITY};
 
 use keylo_core::Degeneracy;
 use nalgebra::{Matrix6, Vector6};

@@ -12,7 +12,7 @@ const PLANE_RADIUS_VOXELS: f64 = 1.0;
 const MIN_PLANE_POINTS: usize = 5;
 /// A neighbourhood is planar when its smallest covariance eigenvalue is below this fraction of
 /// the middle one.
-const PLANARITY: f64 = 0.1;
+pub(crate) const PLANARITY: f64 = 0.1;
 
 /// Point-to-plane information of a cloud, in twist coordinates `[ρ, φ]` about the sensor.
 #[derive(Debug, Clone, Copy)]
@@ -35,20 +35,32 @@ pub fn plane_information(
     max_distance: f64,
     max_points: usize,
 ) -> PlaneInformation {
-    let stride = source.len().div_ceil(max_points.max(1)).max(1);
     let radius = PLANE_RADIUS_VOXELS * map.voxel_size();
+    let mut near = Vec::new();
+    information_with_normals(source, pose, max_points, |world| {
+        let (q, _) = map.closest_neighbour_within(world, max_distance)?;
+        near.clear();
+        map.points_within(&q, radius, &mut near);
+        plane_normal(&near)
+    })
+}
+
+/// The information of (an even stride of at most `max_points` of) `source` placed at `pose`,
+/// with `normal_at(world point)` giving the unit normal of the surface the point lies on
+/// (`None`: no planar surface there; the point gives nothing).
+pub fn information_with_normals(
+    source: &[Point3<f64>],
+    pose: &Isometry3<f64>,
+    max_points: usize,
+    mut normal_at: impl FnMut(&Point3<f64>) -> Option<Vector3<f64>>,
+) -> PlaneInformation {
+    let stride = source.len().div_ceil(max_points.max(1)).max(1);
     let centre = pose.translation.vector;
     let mut matrix = Matrix6::zeros();
     let (mut residuals, mut range2) = (0usize, 0.0);
-    let mut near = Vec::new();
     for p in source.iter().step_by(stride) {
         let world = pose * p;
-        let Some((q, _)) = map.closest_neighbour_within(&world, max_distance) else {
-            continue;
-        };
-        near.clear();
-        map.points_within(&q, radius, &mut near);
-        let Some(n) = plane_normal(&near) else {
+        let Some(n) = normal_at(&world) else {
             continue;
         };
         let arm = world.coords - centre;

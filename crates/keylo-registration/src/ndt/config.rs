@@ -66,8 +66,8 @@ pub struct NdtConfig {
     pub max_motion_per_frame: f64,
     /// Worker threads for this registrar; 0 = the process-wide pool.
     pub max_num_threads: usize,
-    /// Per-frame degeneracy analysis (the negated NDT Hessian at convergence;
-    /// `max_points` is unused).
+    /// Per-frame degeneracy analysis (point-to-plane information of the aligned source
+    /// against the target's planar voxel Gaussians; see `ndt::degeneracy`).
     pub degeneracy: DegeneracyConfig,
 }
 

@@ -29,6 +29,7 @@
 
 pub mod align;
 mod config;
+pub mod degeneracy;
 pub mod euler;
 pub mod line_search;
 pub mod neighbours;
@@ -37,7 +38,7 @@ pub mod score;
 pub mod voxel_grid;
 
 use crate::frame_step;
-use keylo_core::{CoreError, PointCloud, Registrar, Registration};
+use keylo_core::{CoreError, Degeneracy, PointCloud, Registrar, Registration};
 use nalgebra::{Isometry3, Point3};
 
 pub use align::{align, AlignSettings, NdtResult};
@@ -55,8 +56,6 @@ pub struct Ndt {
     last_pose: Isometry3<f64>,
     last_delta: Isometry3<f64>,
     pool: Option<rayon::ThreadPool>,
-    /// RMS sensor range of the last source cloud (m), the rotation scale of the degeneracy.
-    rms_range: f64,
 }
 
 impl Ndt {
@@ -76,7 +75,6 @@ impl Ndt {
             last_pose: Isometry3::identity(),
             last_delta: Isometry3::identity(),
             pool,
-            rms_range: 1.0,
         })
     }
 
@@ -107,7 +105,7 @@ impl Ndt {
     fn register_points(
         &mut self,
         cloud: &PointCloud,
-    ) -> Result<(NdtResult, usize), RegistrationError> {
+    ) -> Result<(NdtResult, usize, Option<Degeneracy>), RegistrationError> {
         let frame = self.preprocess(cloud);
         if frame.is_empty() {
             return Err(frame_step::nothing_in_range(
@@ -129,36 +127,40 @@ impl Ndt {
                 likelihood: 0.0,
                 hessian: nalgebra::Matrix6::zeros(),
             };
-            return Ok((first, source.len()));
+            return Ok((first, source.len(), None));
         };
         let guess = self.last_pose * self.last_delta;
-        let n = source.len().max(1) as f64;
-        self.rms_range = (source.iter().map(|p| p.coords.norm_squared()).sum::<f64>() / n).sqrt();
         let result = align(target, &source, &guess, &self.config.solver())?;
         self.check_divergence(&result.pose)?;
+        let degeneracy = self.degeneracy(target, &source, &result.pose);
         if self.map.wants_keyframe(&result.pose) {
             self.map.add_keyframe(&frame, &result.pose)?;
         }
         self.last_delta = self.last_pose.inverse() * result.pose;
         self.last_delta.rotation.renormalize();
         self.last_pose = result.pose;
-        Ok((result, source.len()))
+        Ok((result, source.len(), degeneracy))
     }
 }
 
 impl Ndt {
-    /// The degeneracy of the negated score Hessian (an information matrix at a maximum), rotations
-    /// scaled by the RMS range of the last source.
-    fn degeneracy(&self, result: &NdtResult, points: usize) -> Option<keylo_core::Degeneracy> {
+    /// The point-to-plane degeneracy of the aligned `source` against the target (before the
+    /// map update), rotations scaled by the RMS range of the points that found a plane.
+    fn degeneracy(
+        &self,
+        target: &NdtTarget,
+        source: &[Point3<f64>],
+        pose: &Isometry3<f64>,
+    ) -> Option<Degeneracy> {
         let c = &self.config.degeneracy;
-        if !c.analyse || result.iterations == 0 {
+        if !c.analyse {
             return None;
         }
-        let info = -result.hessian;
+        let info = degeneracy::plane_information(target, source, pose, c.max_points);
         Some(crate::degeneracy::analyse(
-            &info,
-            points,
-            self.rms_range,
+            &info.matrix,
+            info.residuals,
+            info.rms_range,
             c.weak_ratio,
         ))
     }
@@ -168,8 +170,7 @@ impl Registrar for Ndt {
     fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
         frame_step::reject_non_finite(cloud)?;
         let outcome = frame_step::in_own_pool(self, |s| &mut s.pool, |s| s.register_points(cloud));
-        let (result, source_points) = outcome?;
-        let degeneracy = self.degeneracy(&result, source_points);
+        let (result, source_points, degeneracy) = outcome?;
         Ok(Registration {
             stamp: frame_step::end_stamp(cloud),
             pose: result.pose,

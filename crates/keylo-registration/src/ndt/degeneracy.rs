@@ -1,0 +1,97 @@
+//! NDT's degeneracy analysis: the point-to-plane information of the aligned source against the
+//! target's planar Gaussians (each voxel's normal is its covariance's smallest-spread
+//! direction), the same matrix KISS-ICP and hybrid analyse against their voxel maps.
+//!
+//! NDT's own score Hessian is not used: measured on the simulated long hall, corridor, lab and
+//! road (docs/results/hybrid.md, "Degeneracy of NDT"), its negation is indefinite at 5–17 % of
+//! the final poses and names the hall's axis as the weakest direction in only 60 % of frames,
+//! and its Gauss–Newton part never does (PCL's eigenvalue floor gives each wall voxel 1 % of its
+//! across-wall information along the wall, which outweighs roll's).
+
+use nalgebra::{Isometry3, Point3, Vector3};
+
+use super::neighbours::NdtTarget;
+use super::voxel_grid::Cell;
+use crate::degeneracy::{information_with_normals, PlaneInformation, PLANARITY};
+
+/// A point belongs to a cell's plane when its Mahalanobis distance is at most this (3σ).
+const MAX_MAHALANOBIS2: f64 = 9.0;
+
+/// The information of (a stride of at most `max_points` of) `source` at `pose` against
+/// `target`: each point takes the neighbour cell it fits best, when that cell is planar and
+/// the point lies within 3σ of it.
+pub fn plane_information(
+    target: &NdtTarget,
+    source: &[Point3<f64>],
+    pose: &Isometry3<f64>,
+    max_points: usize,
+) -> PlaneInformation {
+    information_with_normals(source, pose, max_points, |world| {
+        let mut best: Option<(f64, Cell)> = None;
+        target.for_each_neighbour(world, |cell| {
+            let q = world.coords - cell.mean;
+            let m = q.dot(&(cell.inverse_covariance * q));
+            if m <= MAX_MAHALANOBIS2 && best.is_none_or(|(b, _)| m < b) {
+                best = Some((m, *cell));
+            }
+        });
+        best.and_then(|(_, cell)| planar_normal(&cell))
+    })
+}
+
+/// The unit normal of a planar cell: the inverse covariance's largest eigenvector, when its
+/// eigenvalue is more than `1 / PLANARITY` times the middle one (a covariance eigenvalue below
+/// `PLANARITY` times the middle one).
+fn planar_normal(cell: &Cell) -> Option<Vector3<f64>> {
+    let e = cell.inverse_covariance.symmetric_eigen();
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| e.eigenvalues[a].total_cmp(&e.eigenvalues[b]));
+    let (middle, largest) = (e.eigenvalues[order[1]], e.eigenvalues[order[2]]);
+    let n = e.eigenvectors.column(order[2]).into_owned();
+    let planar = middle > 0.0 && largest * PLANARITY > middle;
+    (planar && n.iter().all(|v| v.is_finite())).then_some(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::degeneracy::{analyse, DegeneracyConfig};
+    use crate::ndt::{GridSettings, NeighbourSearch};
+    use crate::test_scenes::{corridor, rnd};
+
+    fn degeneracy_of(cloud: &[Point3<f64>]) -> keylo_core::Degeneracy {
+        let target =
+            NdtTarget::new(cloud, &GridSettings::default(), NeighbourSearch::Radius).unwrap();
+        let info = plane_information(&target, cloud, &Isometry3::identity(), 3000);
+        assert!(info.residuals > 1000, "{}", info.residuals);
+        let ratio = DegeneracyConfig::default().weak_ratio;
+        analyse(&info.matrix, info.residuals, info.rms_range, ratio)
+    }
+
+    #[test]
+    fn a_corridor_is_weak_along_its_axis_only() {
+        let d = degeneracy_of(&corridor(3, 20_000, 40.0));
+        assert_eq!(d.weak, 1, "{d:?}");
+        assert!(d.weak_directions()[0][0].abs() > 0.99, "{d:?}");
+    }
+
+    #[test]
+    fn a_box_is_not_degenerate() {
+        // Floor, two walls along x and two end walls 20 m apart.
+        let mut s = 11u64;
+        let cloud: Vec<Point3<f64>> = (0..20_000)
+            .map(|_| {
+                let (a, b) = (rnd(&mut s), rnd(&mut s));
+                match (rnd(&mut s) * 5.0) as u32 {
+                    0 => Point3::new(a * 20.0 - 10.0, 3.0, b * 3.0 - 1.0),
+                    1 => Point3::new(a * 20.0 - 10.0, -3.0, b * 3.0 - 1.0),
+                    2 => Point3::new(10.0, a * 6.0 - 3.0, b * 3.0 - 1.0),
+                    3 => Point3::new(-10.0, a * 6.0 - 3.0, b * 3.0 - 1.0),
+                    _ => Point3::new(a * 20.0 - 10.0, b * 6.0 - 3.0, -1.0),
+                }
+            })
+            .collect();
+        let d = degeneracy_of(&cloud);
+        assert_eq!(d.weak, 0, "{d:?}");
+    }
+}
