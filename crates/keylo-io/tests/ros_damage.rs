@@ -89,6 +89,32 @@ fn corrupt_bag_chunk() {
 }
 
 #[test]
+fn bag_chunk_claiming_4_gib() {
+    let mut bytes = bag_bytes();
+    let third = points_chunks("ouster_ros1.bag")[2];
+    // The chunk header's `size=` field: its declared uncompressed size.
+    let at = third
+        + bytes[third..third + 100]
+            .windows(5)
+            .position(|w| w == b"size=")
+            .expect("size field in the chunk header")
+        + 5;
+    bytes[at..at + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+    let (_d, path) = write("claim.bag", &bytes);
+    let (ok, err) = read(&path, BagFormat::Ros1Bag);
+    assert_eq!(ok, 2);
+    let err = err.expect("an error after two frames");
+    assert_mentions(
+        &err,
+        &[
+            "claim.bag",
+            &format!("chunk at byte {third}"),
+            "4294967295 bytes uncompressed, over the 512 MiB chunk limit",
+        ],
+    );
+}
+
+#[test]
 fn truncated_bag() {
     let bytes = bag_bytes();
     let third = points_chunks("ouster_ros1.bag")[2];

@@ -4,6 +4,10 @@
 
 use std::io::Read;
 
+// The largest chunk keylo decompresses, as for mcap records (a real bag's chunks are about
+// 768 KiB, or one message when it is larger).
+use crate::ros::mcap_record::RECORD_LIMIT;
+
 /// Record types (`op`).
 pub(crate) mod op {
     pub const MSG_DATA: u8 = 0x02;
@@ -189,8 +193,14 @@ pub(crate) fn records_in(
 /// The uncompressed contents of a chunk (`compression` = `none`, `bz2` or `lz4`), which must
 /// be `size` bytes long.
 pub(crate) fn decompress(compression: &str, data: &[u8], size: u32) -> Result<Vec<u8>, String> {
+    if size as usize > RECORD_LIMIT {
+        return Err(format!(
+            "the chunk declares {size} bytes uncompressed, over the {} MiB chunk limit",
+            RECORD_LIMIT >> 20
+        ));
+    }
     let limit = u64::from(size) + 1;
-    let mut out = Vec::with_capacity((size as usize).min(64 << 20));
+    let mut out = Vec::with_capacity(initial_capacity(data.len(), size));
     let result = match compression {
         "none" => {
             out.extend_from_slice(data);
@@ -213,6 +223,18 @@ pub(crate) fn decompress(compression: &str, data: &[u8], size: u32) -> Result<Ve
         ));
     }
     Ok(out)
+}
+
+/// Compression ratios up to this are reserved in one go; beyond it the buffer grows with the
+/// bytes the decoder really gives.
+const MAX_RESERVED_RATIO: usize = 8;
+
+/// What to reserve for a chunk of `compressed` bytes that declares `size`: the declared size
+/// when the compressed data could plausibly expand to it, else a bound from the data, so a
+/// 200-byte chunk claiming 4 GiB reserves 64 KiB, not the claim.
+fn initial_capacity(compressed: usize, size: u32) -> usize {
+    let plausible = compressed.saturating_mul(MAX_RESERVED_RATIO).max(64 << 10);
+    (size as usize).min(plausible)
 }
 
 #[cfg(test)]
@@ -290,5 +312,24 @@ pub(crate) mod tests {
         }
         assert!(decompress("bz2", &plain, n).unwrap_err().contains("bz2"));
         assert!(decompress("zip", &plain, n).unwrap_err().contains("zip"));
+        let e = decompress("lz4", &lz, u32::MAX).unwrap_err();
+        assert!(e.contains("over the 512 MiB chunk limit"), "{e}");
+        // A chunk that really expands far beyond the reserved ratio still reads whole.
+        let zeros = vec![0u8; 4 << 20];
+        let mut lz = lz4::EncoderBuilder::new().build(Vec::new()).unwrap();
+        lz.write_all(&zeros).unwrap();
+        let (lz, done) = lz.finish();
+        done.unwrap();
+        assert!(lz.len() * MAX_RESERVED_RATIO < zeros.len());
+        assert_eq!(decompress("lz4", &lz, zeros.len() as u32).unwrap(), zeros);
+    }
+
+    #[test]
+    fn a_huge_declared_size_is_not_reserved() {
+        assert_eq!(initial_capacity(200, u32::MAX), 64 << 10);
+        assert_eq!(initial_capacity(1 << 20, u32::MAX), 8 << 20);
+        // Plausible claims are reserved exactly.
+        assert_eq!(initial_capacity(1 << 20, 3 << 20), 3 << 20);
+        assert_eq!(initial_capacity(10, 100), 100);
     }
 }
