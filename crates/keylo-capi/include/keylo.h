@@ -13,6 +13,9 @@
 // Failure: see `keylo_pipeline_error`.
 #define KEYLO_CAPI_ERROR -1
 
+// `keylo_pipeline_degeneracy`: the last frame has no degeneracy analysis.
+#define KEYLO_CAPI_NOT_ANALYSED 1
+
 // A keylo pipeline (opaque).
 typedef struct KeyloPipeline KeyloPipeline;
 
@@ -54,6 +57,26 @@ typedef struct KeyloPose {
   // Whether the registrar converged on the last frame.
   bool converged;
 } KeyloPose;
+
+// How well the last frame's geometry constrained its registration: the eigen-analysis of the
+// registrar's 6x6 point-to-plane information (twist `[tx, ty, tz, L*rx, L*ry, L*rz]`,
+// rotations scaled by `length_scale` L, per residual).
+typedef struct KeyloDegeneracy {
+  // Eigenvalues, ascending.
+  double eigenvalues[6];
+  // Unit eigenvectors, row-major: `eigenvectors[6 * i .. 6 * i + 6]` belongs to
+  // `eigenvalues[i]`.
+  double eigenvectors[36];
+  // Largest over smallest eigenvalue (infinity when the smallest is not positive).
+  double condition;
+  // Number of weak directions: the first `weak` eigenvectors (below the registrar's
+  // `degeneracy.weak_ratio` times the largest eigenvalue).
+  uint32_t weak;
+  // The rotation scale L, metres.
+  double length_scale;
+  // Residuals the matrix sums over.
+  uint64_t residuals;
+} KeyloDegeneracy;
 
 #ifdef __cplusplus
 extern "C" {
@@ -99,6 +122,15 @@ int32_t keylo_pipeline_push_points(struct KeyloPipeline *p,
 // # Safety
 // `p` from `keylo_pipeline_new`; `out` writable.
 int32_t keylo_pipeline_pose(struct KeyloPipeline *p, struct KeyloPose *out);
+
+// Writes the last frame's degeneracy analysis to `out`. Returns 0; 1 when the registrar did
+// not analyse that frame (the first frame, `degeneracy.analyse = false`, or a registrar
+// without the analysis, such as a plugin), `out` untouched; -1 before the first frame or
+// when `out` is NULL.
+//
+// # Safety
+// `p` from `keylo_pipeline_new`; `out` writable.
+int32_t keylo_pipeline_degeneracy(struct KeyloPipeline *p, struct KeyloDegeneracy *out);
 
 // The last frame's registered cloud (what the downsampler gave the registrar) in the world
 // frame: `*xyz` receives `3 * *n` doubles, valid until the next call on `p`. Returns 0, or -1.

@@ -56,6 +56,27 @@ pub struct KeyloPose {
     pub converged: bool,
 }
 
+/// How well the last frame's geometry constrained its registration: the eigen-analysis of the
+/// registrar's 6x6 point-to-plane information (twist `[tx, ty, tz, L*rx, L*ry, L*rz]`,
+/// rotations scaled by `length_scale` L, per residual).
+#[repr(C)]
+pub struct KeyloDegeneracy {
+    /// Eigenvalues, ascending.
+    pub eigenvalues: [f64; 6],
+    /// Unit eigenvectors, row-major: `eigenvectors[6 * i .. 6 * i + 6]` belongs to
+    /// `eigenvalues[i]`.
+    pub eigenvectors: [f64; 36],
+    /// Largest over smallest eigenvalue (infinity when the smallest is not positive).
+    pub condition: f64,
+    /// Number of weak directions: the first `weak` eigenvectors (below the registrar's
+    /// `degeneracy.weak_ratio` times the largest eigenvalue).
+    pub weak: u32,
+    /// The rotation scale L, metres.
+    pub length_scale: f64,
+    /// Residuals the matrix sums over.
+    pub residuals: u64,
+}
+
 /// A keylo pipeline (opaque).
 pub struct KeyloPipeline {
     inner: Option<Embedded>,
@@ -66,6 +87,8 @@ pub struct KeyloPipeline {
 pub const KEYLO_CAPI_OK: i32 = 0;
 /// Failure: see `keylo_pipeline_error`.
 pub const KEYLO_CAPI_ERROR: i32 = -1;
+/// `keylo_pipeline_degeneracy`: the last frame has no degeneracy analysis.
+pub const KEYLO_CAPI_NOT_ANALYSED: i32 = 1;
 
 fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
     p.downcast_ref::<&str>()
@@ -322,6 +345,53 @@ pub unsafe extern "C" fn keylo_pipeline_pose(p: *mut KeyloPipeline, out: *mut Ke
         }
         Ok(())
     })
+}
+
+/// Writes the last frame's degeneracy analysis to `out`. Returns 0; 1 when the registrar did
+/// not analyse that frame (the first frame, `degeneracy.analyse = false`, or a registrar
+/// without the analysis, such as a plugin), `out` untouched; -1 before the first frame or
+/// when `out` is NULL.
+///
+/// # Safety
+/// `p` from `keylo_pipeline_new`; `out` writable.
+#[no_mangle]
+pub unsafe extern "C" fn keylo_pipeline_degeneracy(
+    p: *mut KeyloPipeline,
+    out: *mut KeyloDegeneracy,
+) -> i32 {
+    let mut analysed = false;
+    let rc = with(p, |e| {
+        let r = e
+            .last()
+            .ok_or_else(|| CapiError::Argument("no frame processed yet".into()))?;
+        if out.is_null() {
+            return Err(CapiError::Argument("out is NULL".into()));
+        }
+        let Some(d) = &r.degeneracy else {
+            return Ok(());
+        };
+        let mut eigenvectors = [0.0; 36];
+        for (i, v) in d.eigenvectors.iter().enumerate() {
+            eigenvectors[6 * i..6 * i + 6].copy_from_slice(v);
+        }
+        // SAFETY: writable per the contract.
+        unsafe {
+            *out = KeyloDegeneracy {
+                eigenvalues: d.eigenvalues,
+                eigenvectors,
+                condition: d.condition,
+                weak: d.weak as u32,
+                length_scale: d.length_scale,
+                residuals: d.residuals as u64,
+            };
+        }
+        analysed = true;
+        Ok(())
+    });
+    match rc {
+        KEYLO_CAPI_OK if !analysed => KEYLO_CAPI_NOT_ANALYSED,
+        rc => rc,
+    }
 }
 
 /// The last frame's registered cloud (what the downsampler gave the registrar) in the world

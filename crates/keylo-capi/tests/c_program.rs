@@ -94,7 +94,10 @@ fn compile(exe: &Path) {
 fn run(exe: &Path, config: &str, dir: &Path, mode: &str) -> Vec<[f64; 3]> {
     let cfg = dir.join(format!("{mode}.toml"));
     std::fs::write(&cfg, config).unwrap();
+    // Cargo's LD_LIBRARY_PATH names target/debug first, where an older `cargo build` may have
+    // left a stale libkeylo_capi.so; the one built with this test is in `lib_dir()`.
     let o = Command::new(exe)
+        .env("LD_LIBRARY_PATH", lib_dir())
         .arg(&cfg)
         .arg(dir)
         .arg(FRAMES.to_string())
@@ -115,6 +118,7 @@ fn run(exe: &Path, config: &str, dir: &Path, mode: &str) -> Vec<[f64; 3]> {
         text.contains("error points: xyz is NULL or n is 0"),
         "{text}"
     );
+    check_degeneracy(&text);
     text.lines()
         .filter_map(|l| l.strip_prefix("pose "))
         .map(|l| {
@@ -123,6 +127,25 @@ fn run(exe: &Path, config: &str, dir: &Path, mode: &str) -> Vec<[f64; 3]> {
             [v[1], v[2], v[3]]
         })
         .collect()
+}
+
+/// `keylo_pipeline_degeneracy`: none for the first frame (nothing to register against), an
+/// analysis for every later one; the simulated lab constrains every direction.
+fn check_degeneracy(text: &str) {
+    let lines: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("degeneracy "))
+        .collect();
+    assert_eq!(lines.len(), FRAMES, "{text}");
+    assert_eq!(lines[0], "0 none");
+    for l in &lines[1..] {
+        let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+        let (weak, condition, low, high, unit, residuals) = (v[1], v[2], v[3], v[4], v[5], v[6]);
+        assert_eq!(weak, 0.0, "{l}");
+        assert!(low > 0.0 && high >= low && condition.is_finite(), "{l}");
+        assert!((unit - 1.0).abs() < 1e-5, "{l}");
+        assert!(residuals > 20.0, "{l}");
+    }
 }
 
 fn check_against_truth(est: &[[f64; 3]], gt: &Trajectory, mode: &str) {

@@ -4,7 +4,8 @@
  * Reads N frames FRAMES_DIR/frame_K.bin (u32 rows, u32 cols, f64 timestamp, f64 column_times[cols],
  * f32 xyz[3*rows*cols], f32 signal[rows*cols], u8 valid[rows*cols]), pushes each as an organised
  * frame or as an unorganised cloud with per-point times, and prints one line per frame:
- *   pose K tx ty tz qx qy qz qw CLOUD_POINTS */
+ *   pose K tx ty tz qx qy qz qw CLOUD_POINTS
+ *   degeneracy K WEAK CONDITION LAMBDA_MIN LAMBDA_MAX |FIRST_EIGENVECTOR| RESIDUALS   (or: degeneracy K none) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -109,6 +110,19 @@ int main(int argc, char **argv) {
             if (!isfinite(xyz[i])) { fprintf(stderr, "frame %d: non-finite cloud\n", k); return 1; }
         printf("pose %d %.6f %.6f %.6f %.6f %.6f %.6f %.6f %zu\n", k, pose.translation[0], pose.translation[1],
                pose.translation[2], pose.rotation[0], pose.rotation[1], pose.rotation[2], pose.rotation[3], n);
+        KeyloDegeneracy d;
+        int drc = keylo_pipeline_degeneracy(p, &d);
+        if (drc == KEYLO_CAPI_NOT_ANALYSED) {
+            printf("degeneracy %d none\n", k);
+        } else if (drc == KEYLO_CAPI_OK) {
+            double norm = 0.0;
+            for (int j = 0; j < 6; j++) norm += d.eigenvectors[j] * d.eigenvectors[j];
+            printf("degeneracy %d %u %.6g %.6g %.6g %.6f %llu\n", k, d.weak, d.condition, d.eigenvalues[0],
+                   d.eigenvalues[5], sqrt(norm), (unsigned long long)d.residuals);
+        } else {
+            fprintf(stderr, "frame %d: %s\n", k, keylo_pipeline_error(p));
+            return 1;
+        }
     }
     /* Bad input is an error, not a crash. */
     if (keylo_pipeline_push_points(p, 0.0, NULL, NULL, NULL, 0) != KEYLO_CAPI_ERROR) return 1;
