@@ -120,29 +120,11 @@ mod tests {
     use super::*;
     use crate::degeneracy::analyse;
 
-    use crate::test_scenes::rnd;
+    use crate::test_scenes::room;
 
     /// A corridor along x: two walls at y = ±2 and a floor, 40 m long.
     fn corridor() -> Vec<Point3<f64>> {
         crate::test_scenes::corridor(3, 9000, 40.0)
-    }
-
-    /// A closed 10 × 8 m room with floor and ceiling.
-    fn room() -> Vec<Point3<f64>> {
-        let mut s = 5u64;
-        (0..9000)
-            .map(|_| {
-                let (a, b) = (rnd(&mut s), rnd(&mut s));
-                match (rnd(&mut s) * 6.0) as u32 {
-                    0 => Point3::new(a * 10.0 - 5.0, 4.0, b * 3.0 - 1.0),
-                    1 => Point3::new(a * 10.0 - 5.0, -4.0, b * 3.0 - 1.0),
-                    2 => Point3::new(5.0, a * 8.0 - 4.0, b * 3.0 - 1.0),
-                    3 => Point3::new(-5.0, a * 8.0 - 4.0, b * 3.0 - 1.0),
-                    4 => Point3::new(a * 10.0 - 5.0, b * 8.0 - 4.0, -1.0),
-                    _ => Point3::new(a * 10.0 - 5.0, b * 8.0 - 4.0, 2.0),
-                }
-            })
-            .collect()
     }
 
     fn degeneracy_of(cloud: &[Point3<f64>]) -> keylo_core::Degeneracy {

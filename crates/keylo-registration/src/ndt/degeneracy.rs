@@ -57,7 +57,7 @@ mod tests {
     use super::*;
     use crate::degeneracy::{analyse, DegeneracyConfig};
     use crate::ndt::{GridSettings, NeighbourSearch};
-    use crate::test_scenes::{corridor, rnd};
+    use crate::test_scenes::{corridor, room};
 
     fn degeneracy_of(cloud: &[Point3<f64>]) -> keylo_core::Degeneracy {
         let target =
@@ -76,22 +76,8 @@ mod tests {
     }
 
     #[test]
-    fn a_box_is_not_degenerate() {
-        // Floor, two walls along x and two end walls 20 m apart.
-        let mut s = 11u64;
-        let cloud: Vec<Point3<f64>> = (0..20_000)
-            .map(|_| {
-                let (a, b) = (rnd(&mut s), rnd(&mut s));
-                match (rnd(&mut s) * 5.0) as u32 {
-                    0 => Point3::new(a * 20.0 - 10.0, 3.0, b * 3.0 - 1.0),
-                    1 => Point3::new(a * 20.0 - 10.0, -3.0, b * 3.0 - 1.0),
-                    2 => Point3::new(10.0, a * 6.0 - 3.0, b * 3.0 - 1.0),
-                    3 => Point3::new(-10.0, a * 6.0 - 3.0, b * 3.0 - 1.0),
-                    _ => Point3::new(a * 20.0 - 10.0, b * 6.0 - 3.0, -1.0),
-                }
-            })
-            .collect();
-        let d = degeneracy_of(&cloud);
+    fn a_closed_room_is_not_degenerate() {
+        let d = degeneracy_of(&room());
         assert_eq!(d.weak, 0, "{d:?}");
     }
 }
