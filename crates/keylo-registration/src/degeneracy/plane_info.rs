@@ -12,7 +12,7 @@ const PLANE_RADIUS_VOXELS: f64 = 1.0;
 const MIN_PLANE_POINTS: usize = 5;
 /// A neighbourhood is planar when its smallest covariance eigenvalue is below this fraction of
 /// the middle one.
-pub(crate) const PLANARITY: f64 = 0.1;
+const PLANARITY: f64 = 0.1;
 
 /// Point-to-plane information of a cloud, in twist coordinates `[ρ, φ]` about the sensor.
 #[derive(Debug, Clone, Copy)]
@@ -81,7 +81,13 @@ pub fn information_with_normals(
 
 /// Unit normal of a planar neighbourhood, `None` when too few points or not planar.
 pub(crate) fn plane_normal(points: &[Point3<f64>]) -> Option<Vector3<f64>> {
-    let (n, l0, l1) = least_spread(points)?;
+    planar_normal_of(&covariance(points)?)
+}
+
+/// The unit normal of a distribution with covariance `cov` when it is planar (its smallest
+/// eigenvalue below `PLANARITY` times the middle one), else `None`.
+pub(crate) fn planar_normal_of(cov: &Matrix3<f64>) -> Option<Vector3<f64>> {
+    let (n, l0, l1) = least_spread_of(cov)?;
     (l1 > 0.0 && l0 < PLANARITY * l1).then_some(n)
 }
 
@@ -89,11 +95,11 @@ pub(crate) fn plane_normal(points: &[Point3<f64>]) -> Option<Vector3<f64>> {
 /// eigenvector, planar or not; across a line or an edge it has no component along it), `None`
 /// with fewer than 5 points.
 pub(crate) fn least_spread_normal(points: &[Point3<f64>]) -> Option<Vector3<f64>> {
-    least_spread(points).map(|(n, ..)| n)
+    least_spread_of(&covariance(points)?).map(|(n, ..)| n)
 }
 
-/// The covariance's smallest eigenvector and its two smallest eigenvalues.
-fn least_spread(points: &[Point3<f64>]) -> Option<(Vector3<f64>, f64, f64)> {
+/// The sample covariance of `points`, `None` with fewer than 5.
+fn covariance(points: &[Point3<f64>]) -> Option<Matrix3<f64>> {
     if points.len() < MIN_PLANE_POINTS {
         return None;
     }
@@ -107,6 +113,11 @@ fn least_spread(points: &[Point3<f64>]) -> Option<(Vector3<f64>, f64, f64)> {
         })
         .sum::<Matrix3<f64>>()
         / n;
+    Some(cov)
+}
+
+/// A covariance's smallest eigenvector and its two smallest eigenvalues.
+fn least_spread_of(cov: &Matrix3<f64>) -> Option<(Vector3<f64>, f64, f64)> {
     let e = cov.symmetric_eigen();
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| e.eigenvalues[a].total_cmp(&e.eigenvalues[b]));

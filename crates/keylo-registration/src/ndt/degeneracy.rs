@@ -12,7 +12,7 @@ use nalgebra::{Isometry3, Point3, Vector3};
 
 use super::neighbours::NdtTarget;
 use super::voxel_grid::Cell;
-use crate::degeneracy::{information_with_normals, PlaneInformation, PLANARITY};
+use crate::degeneracy::{information_with_normals, planar_normal_of, PlaneInformation};
 
 /// A point belongs to a cell's plane when its Mahalanobis distance is at most this (3σ).
 const MAX_MAHALANOBIS2: f64 = 9.0;
@@ -39,17 +39,10 @@ pub fn plane_information(
     })
 }
 
-/// The unit normal of a planar cell: the inverse covariance's largest eigenvector, when its
-/// eigenvalue is more than `1 / PLANARITY` times the middle one (a covariance eigenvalue below
-/// `PLANARITY` times the middle one).
+/// The unit normal of a planar cell: the planarity rule of the KISS-style analysis applied to
+/// the cell's (regularised) covariance.
 fn planar_normal(cell: &Cell) -> Option<Vector3<f64>> {
-    let e = cell.inverse_covariance.symmetric_eigen();
-    let mut order = [0usize, 1, 2];
-    order.sort_by(|&a, &b| e.eigenvalues[a].total_cmp(&e.eigenvalues[b]));
-    let (middle, largest) = (e.eigenvalues[order[1]], e.eigenvalues[order[2]]);
-    let n = e.eigenvectors.column(order[2]).into_owned();
-    let planar = middle > 0.0 && largest * PLANARITY > middle;
-    (planar && n.iter().all(|v| v.is_finite())).then_some(n)
+    planar_normal_of(&cell.inverse_covariance.try_inverse()?)
 }
 
 #[cfg(test)]
