@@ -248,7 +248,7 @@ unsafe fn frame_from(f: &KeyloFrameIn) -> Result<LidarFrame, CapiError> {
         range,
         points,
         beams: Arc::new(keylo::BeamGeometry::unknown("", cols)),
-        index_map: None,
+        scan: None,
     })
 }
 

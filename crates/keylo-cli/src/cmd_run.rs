@@ -162,6 +162,15 @@ fn process_all(
         progress.inc(1);
         match result {
             Ok(r) => {
+                if r.registered_points == 0 {
+                    tracing::warn!(
+                        "{}: no point to register ({} points in the cloud, none within the \
+                         registrar's range limits); its pose is the constant-velocity \
+                         prediction (set registrar.empty_frame = \"error\" to stop instead)",
+                        frame_name(pipeline, frame.index),
+                        r.cloud_points
+                    );
+                }
                 st.trajectory.push(r.stamp, r.pose);
                 st.totals.add(&r);
                 let row = report::FrameRow {
@@ -198,17 +207,29 @@ fn process_all(
             Err(e @ CoreError::BadFrame { .. })
                 if config.output.on_bad_frame == OnBadFrame::Skip =>
             {
-                tracing::warn!("skipping: {e}");
+                tracing::warn!("skipping {}: {e}", frame_name(pipeline, frame.index));
                 st.skipped += 1;
             }
             Err(e) => {
+                let error = match pipeline.source.frame_origin(frame.index) {
+                    Some(file) => format!("{e} (file {file})"),
+                    None => e.to_string(),
+                };
                 st.failure = Some(Failure {
                     frame: frame.index,
-                    error: e.to_string(),
+                    error,
                 });
                 break;
             }
         }
+    }
+}
+
+/// "frame N" and, when the source reads one file per frame, "(FILE)".
+fn frame_name(pipeline: &Pipeline, index: u64) -> String {
+    match pipeline.source.frame_origin(index) {
+        Some(file) => format!("frame {index} ({file})"),
+        None => format!("frame {index}"),
     }
 }
 

@@ -33,6 +33,9 @@ pub struct Summary {
     pub source: String,
     pub frames: usize,
     pub frames_skipped: usize,
+    /// Frames with no point to register (an empty scan, nothing within the range limits)
+    /// whose pose is the registrar's constant-velocity prediction (`empty_frame = "predict"`).
+    pub frames_predicted: usize,
     pub failed: Option<Failure>,
     /// Frames per second of the odometry stages alone (source reading excluded).
     pub odometry_hz: f64,
@@ -66,6 +69,8 @@ pub struct Totals {
     pub registered_points: usize,
     pub iterations: usize,
     pub not_converged: usize,
+    /// Frames registered without a point (pose predicted).
+    pub predicted: usize,
     pub timings: StageTimings,
     pub odometry_seconds: f64,
 }
@@ -78,6 +83,7 @@ impl Totals {
         self.registered_points += r.registered_points;
         self.iterations += r.iterations;
         self.not_converged += usize::from(!r.converged);
+        self.predicted += usize::from(r.registered_points == 0);
         let t = &mut self.timings;
         t.image += r.timings.image;
         t.detect += r.timings.detect;
@@ -94,6 +100,7 @@ impl Totals {
         s.mean_registered_points = self.registered_points as f64 / n;
         s.mean_iterations = self.iterations as f64 / n;
         s.frames_not_converged = self.not_converged;
+        s.frames_predicted = self.predicted;
         s.odometry_hz = if self.odometry_seconds > 0.0 {
             self.frames as f64 / self.odometry_seconds
         } else {

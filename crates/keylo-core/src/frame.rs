@@ -7,6 +7,7 @@ use std::sync::Arc;
 use nalgebra::Point3;
 use serde::{Deserialize, Serialize};
 
+use crate::scan::{PixelPoints, ScanPoints};
 use crate::PointCloud;
 
 /// One of the per-pixel channels of a [`LidarFrame`].
@@ -125,25 +126,10 @@ pub struct LidarFrame {
     pub valid: Vec<bool>,
     /// Beam intrinsics shared by all frames of a sequence.
     pub beams: Arc<BeamGeometry>,
-    /// For frames projected from an unorganised cloud: which source point each pixel holds
-    /// and where each source point went. `None` when the sensor delivered the grid itself.
-    pub index_map: Option<Arc<PixelIndexMap>>,
-}
-
-/// The two-way map between the pixels of a projected frame and the points of its source cloud.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct PixelIndexMap {
-    /// Per pixel (row-major), the index of the source point kept there, or [`Self::NONE`].
-    pub pixel_to_point: Vec<u32>,
-    /// Per source point, the pixel it fell into, or [`Self::NONE`] when it was dropped
-    /// (outside the field of view, not finite). Several points may share a pixel; the nearest
-    /// one is the one kept in `pixel_to_point`.
-    pub point_to_pixel: Vec<u32>,
-}
-
-impl PixelIndexMap {
-    /// Marks an empty pixel or a dropped point.
-    pub const NONE: u32 = u32::MAX;
+    /// For frames of an unorganised source: every finite point of the scan in file order,
+    /// with the pixel each falls into (the grids above show the nearest point of each pixel).
+    /// `None` when the sensor delivered the grid itself (one point per pixel).
+    pub scan: Option<Arc<ScanPoints>>,
 }
 
 impl LidarFrame {
@@ -170,7 +156,7 @@ impl LidarFrame {
             points: vec![Point3::origin(); n],
             valid: vec![false; n],
             beams,
-            index_map: None,
+            scan: None,
         }
     }
 
@@ -229,15 +215,103 @@ impl LidarFrame {
                 self.cols
             ));
         }
-        Ok(())
+        match &self.scan {
+            Some(scan) => scan.check(n),
+            None => Ok(()),
+        }
     }
 
-    /// Every valid pixel with a finite point, as a cloud with per-point times and signal.
+    /// Every point of the frame as a cloud with per-point times and intensities: every
+    /// point of the scan for an unorganised source, every valid pixel's point otherwise.
     pub fn to_cloud(&self) -> PointCloud {
-        self.cloud_of_pixels((0..self.rows * self.cols).filter(|&i| self.valid[i]))
+        self.cloud(PixelPoints::All)
     }
 
-    /// The cloud of the given pixel indices (invalid or non-finite pixels are skipped).
+    /// The whole frame as a cloud: every scan point ([`PixelPoints::All`]) or one point per
+    /// valid pixel ([`PixelPoints::Nearest`]; the same for organised frames).
+    pub fn cloud(&self, mode: PixelPoints) -> PointCloud {
+        match (&self.scan, mode) {
+            (Some(scan), PixelPoints::All) => PointCloud {
+                timestamp: self.timestamp,
+                points: scan.points.clone(),
+                times: scan.times.clone(),
+                intensities: Some(
+                    scan.intensity
+                        .clone()
+                        .unwrap_or_else(|| vec![0.0; scan.len()]),
+                ),
+            },
+            _ => self.cloud_of_pixels((0..self.rows * self.cols).filter(|&i| self.valid[i])),
+        }
+    }
+
+    /// The points of the given pixels (row-major indices, ascending): with
+    /// [`PixelPoints::All`] every scan point that falls into one of them, in file order;
+    /// otherwise (and for organised frames) each valid pixel's own point.
+    pub fn cloud_of_selected(&self, pixels: &[usize], mode: PixelPoints) -> PointCloud {
+        match (&self.scan, mode) {
+            (Some(scan), PixelPoints::All) => {
+                let indices = scan.points_in(&self.pixel_mask(pixels));
+                self.cloud_of_scan_points(scan, indices.into_iter())
+            }
+            _ => self.cloud_of_pixels(pixels.iter().copied()),
+        }
+    }
+
+    /// How many points [`Self::cloud_of_selected`] returns for `pixels`, without building
+    /// the cloud.
+    pub fn count_selected(&self, pixels: &[usize], mode: PixelPoints) -> usize {
+        match (&self.scan, mode) {
+            (Some(scan), PixelPoints::All) => {
+                let mask = self.pixel_mask(pixels);
+                scan.pixel
+                    .iter()
+                    .filter(|&&p| mask.get(p as usize).copied().unwrap_or(false))
+                    .count()
+            }
+            _ => pixels
+                .iter()
+                .filter(|&&i| self.valid[i] && self.points[i].coords.iter().all(|v| v.is_finite()))
+                .count(),
+        }
+    }
+
+    fn pixel_mask(&self, pixels: &[usize]) -> Vec<bool> {
+        let mut mask = vec![false; self.rows * self.cols];
+        for &p in pixels {
+            if let Some(m) = mask.get_mut(p) {
+                *m = true;
+            }
+        }
+        mask
+    }
+
+    /// The cloud of the given scan points (indices into `scan`).
+    fn cloud_of_scan_points(
+        &self,
+        scan: &ScanPoints,
+        indices: impl Iterator<Item = usize> + Clone,
+    ) -> PointCloud {
+        let points = indices
+            .clone()
+            .map(|i| scan.points[i])
+            .collect();
+        PointCloud {
+            timestamp: self.timestamp,
+            points,
+            times: scan
+                .times
+                .as_ref()
+                .map(|t| indices.clone().map(|i| t[i]).collect()),
+            intensities: Some(match &scan.intensity {
+                Some(v) => indices.map(|i| v[i]).collect(),
+                None => indices.map(|_| 0.0).collect(),
+            }),
+        }
+    }
+
+    /// The cloud of the given pixel indices (invalid or non-finite pixels are skipped): one
+    /// point per pixel.
     pub fn cloud_of_pixels(&self, pixels: impl Iterator<Item = usize>) -> PointCloud {
         let mut points = Vec::new();
         let mut times = Vec::new();

@@ -16,6 +16,7 @@ pub mod keypoints3d;
 pub mod pipeline;
 pub mod pixel_math;
 pub mod registry;
+pub mod scan;
 pub mod stages;
 pub mod trajectory;
 
@@ -23,7 +24,8 @@ pub use cloud::PointCloud;
 pub use degeneracy::Degeneracy;
 pub use error::{ConfigError, CoreError};
 pub use features::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
-pub use frame::{BeamGeometry, Channel, LidarFrame, PixelIndexMap};
+pub use frame::{BeamGeometry, Channel, LidarFrame};
+pub use scan::{GridOccupancy, PixelPoints, ScanPoints};
 pub use image::Image;
 pub use keypoints3d::{FrameKeypoints, ImageKeypoints};
 pub use pipeline::{build_source, FrameResult, Odometry, PerImage, Pipeline, StageTimings};

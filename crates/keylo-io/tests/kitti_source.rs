@@ -6,10 +6,10 @@ mod common;
 use std::path::Path;
 
 use common::{build, frames, kitti_mini, lit, write_bin};
-use keylo_core::PixelIndexMap;
+use keylo_core::ScanPoints;
 use keylo_io::kitti_bin::read_kitti_bin;
 
-const NONE: u32 = PixelIndexMap::NONE;
+const NONE: u32 = ScanPoints::NONE;
 
 /// The 12 numbers of every line of a KITTI pose file, as written (no re-orthonormalising).
 fn raw_poses(path: &Path) -> Vec<[f64; 12]> {
@@ -36,8 +36,9 @@ fn real_scans_stream_with_times_from_times_txt() {
         info.description
     );
     let first = src.next_frame().unwrap().unwrap();
-    let map = first.index_map.as_ref().unwrap();
-    assert_eq!(map.point_to_pixel.len(), 124_668, "points of 00/000000.bin");
+    let scan = first.scan.as_ref().unwrap();
+    assert_eq!(scan.len(), 124_668, "points of 00/000000.bin");
+    assert_eq!(first.to_cloud().len(), 124_668, "every point reaches the cloud");
     assert_eq!((first.rows, first.cols, first.timestamp), (64, 1024, 0.0));
     let second = src.next_frame().unwrap().unwrap();
     assert_eq!((second.index, second.timestamp), (1, 0.1037359));
@@ -83,8 +84,10 @@ fn a_real_scan_projects_with_consistent_index_maps() {
     let points = read_kitti_bin(&scan).unwrap();
     let mut src = build("kitti", &format!("path = {}", lit(&scan))).unwrap();
     let f = frames(src.as_mut()).unwrap().remove(0);
-    let map = f.index_map.as_ref().unwrap();
-    let mapped = map.point_to_pixel.iter().filter(|&&p| p != NONE).count();
+    let map = f.scan.as_ref().unwrap();
+    assert_eq!(map.len(), points.len(), "a real scan has only finite points");
+    assert!(map.source_index.iter().enumerate().all(|(i, &s)| s as usize == i));
+    let mapped = map.pixel.iter().filter(|&&p| p != NONE).count();
     let kept = f.valid_count();
     let n = points.len() as f64;
     eprintln!(
@@ -100,7 +103,7 @@ fn a_real_scan_projects_with_consistent_index_maps() {
     for (pixel, &point) in map.pixel_to_point.iter().enumerate() {
         assert_eq!(f.valid[pixel], point != NONE, "pixel {pixel}");
         if point != NONE {
-            assert_eq!(map.point_to_pixel[point as usize] as usize, pixel);
+            assert_eq!(map.pixel[point as usize] as usize, pixel);
             let p = points[point as usize];
             assert_eq!(f.points[pixel].coords.as_slice(), &p[..3]);
             assert_eq!(f.signal[pixel], p[3]);

@@ -106,11 +106,11 @@ fn folders_stream_in_natural_order_with_name_stamps_and_projection() {
     assert_eq!(f[1].index, 2);
     assert_eq!((f[0].rows, f[0].cols), (4, 64));
     // Ring rows: every point lands in the image, and the maps agree.
-    let map = f[0].index_map.as_ref().unwrap();
-    assert!(map.point_to_pixel.iter().all(|&p| p != u32::MAX));
+    let map = f[0].scan.as_ref().unwrap();
+    assert!(map.pixel.iter().all(|&p| p != u32::MAX));
     for (pixel, &point) in map.pixel_to_point.iter().enumerate() {
         if point != u32::MAX {
-            assert_eq!(map.point_to_pixel[point as usize] as usize, pixel);
+            assert_eq!(map.pixel[point as usize] as usize, pixel);
         }
     }
 }
@@ -137,7 +137,7 @@ fn organised_pcd_folders_keep_the_grid_and_single_files_work() {
     assert_eq!(f.len(), 3);
     assert_eq!(f[2].timestamp, 0.1);
     assert_eq!((f[0].rows, f[0].cols), (4, 3));
-    assert!(f[0].index_map.is_none());
+    assert!(f[0].scan.is_none());
     assert_eq!(f[0].valid_count(), 12);
     let one = dir.path().join("scan_10.pcd");
     let mut src = build("pcd", &format!("path = {}", lit(&one))).unwrap();

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use keylo_core::{BuildContext, ImageSource, LidarFrame, PixelIndexMap, Registry};
+use keylo_core::{BuildContext, ImageSource, LidarFrame, Registry, ScanPoints};
 use keylo_io::ros::{bag_info, BagFormat, BagSource, BagSourceConfig};
 use serde_json::Value;
 
@@ -168,10 +168,11 @@ fn unorganised_clouds_are_projected_by_ring() {
         let organised = read(&config(&path, "/ouster/points"), format);
         assert_eq!(frames.len(), 3);
         for ((f, w), o) in frames.iter().zip(&want).zip(&organised) {
-            let map = f.index_map.as_ref().unwrap();
+            let map = f.scan.as_ref().unwrap();
             let points = w["points"].as_u64().unwrap() as usize;
-            assert_eq!(map.point_to_pixel.len(), points, "{name}");
-            assert!(map.point_to_pixel.iter().all(|&p| p != PixelIndexMap::NONE));
+            assert_eq!(map.len(), points, "{name}");
+            assert_eq!(f.to_cloud().len(), points, "{name}: every point reaches the cloud");
+            assert!(map.pixel.iter().all(|&p| p != ScanPoints::NONE));
             // Nearly every point has a pixel of its own (ring rows, 1024 azimuth columns).
             assert!(
                 f.valid_count() * 100 >= points * 90,

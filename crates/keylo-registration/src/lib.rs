@@ -24,7 +24,7 @@ pub mod voxel;
 
 pub use error::RegistrationError;
 pub use hybrid::{CloudResidual, Hybrid, HybridConfig};
-pub use kiss_icp::{KissIcp, KissIcpConfig};
+pub use kiss_icp::{EmptyFrame, KissIcp, KissIcpConfig};
 pub use ndt::{Ndt, NdtConfig};
 
 /// Registers this crate's backends: registrars `kiss-icp`, `hybrid`, `ndt`; downsamplers `passthrough`, `voxel`.

@@ -156,14 +156,21 @@ impl Odometry {
         let t = Instant::now();
         let cloud = self.downsampler.downsample(frame, &features)?;
         timings.downsample = t.elapsed().as_secs_f64();
-        if cloud.is_empty() {
+        if cloud.is_empty() && !self.registrar.accepts_empty_clouds() {
             return Err(CoreError::BadFrame {
                 frame: frame.index,
-                message: format!(
-                    "no valid finite point to register ({} valid pixels of {})",
-                    frame.valid_count(),
-                    frame.rows * frame.cols
-                ),
+                message: match &frame.scan {
+                    Some(scan) => format!(
+                        "no point to register (the scan holds {} finite points; the \
+                         downsampler kept none)",
+                        scan.len()
+                    ),
+                    None => format!(
+                        "no valid finite point to register ({} valid pixels of {})",
+                        frame.valid_count(),
+                        frame.rows * frame.cols
+                    ),
+                },
             });
         }
         let t = Instant::now();

@@ -49,4 +49,11 @@ pub trait Registrar: Send {
 
     /// Points currently in the local map.
     fn map_size(&self) -> usize;
+
+    /// Whether the registrar takes a cloud without a point (an empty scan) and gives it a
+    /// pose of its own (KISS-ICP's constant-velocity prediction). By default false: the
+    /// pipeline stops such a frame with an error before calling the registrar.
+    fn accepts_empty_clouds(&self) -> bool {
+        false
+    }
 }

@@ -23,6 +23,12 @@ pub trait ImageSource: Send {
     fn details(&self) -> Vec<(String, String)> {
         Vec::new()
     }
+    /// Where frame `index` came from (its file), for messages about that frame; `None` when
+    /// the source has no per-frame file (a pcap, a bag, the simulator).
+    fn frame_origin(&self, index: u64) -> Option<String> {
+        let _ = index;
+        None
+    }
     /// Ground truth shipped with the data (e.g. the simulator's `gt.tum`), if any.
     fn ground_truth(&self) -> Option<crate::Trajectory> {
         None::<Trajectory>

@@ -10,7 +10,7 @@ pub use voxel::{VoxelBudgetConfig, VoxelBudgetDownsampler};
 
 use std::collections::BTreeMap;
 
-use keylo_core::{CoreError, FrameFeatures, LidarFrame};
+use keylo_core::{CoreError, FrameFeatures, LidarFrame, PixelPoints, PointCloud};
 
 use crate::neighbourhood::{select_pixels, Mapping, Windows};
 
@@ -19,6 +19,7 @@ pub(crate) struct Budget {
     points: usize,
     sizes: BTreeMap<String, usize>,
     mapping: Mapping,
+    pixel_points: PixelPoints,
 }
 
 impl Budget {
@@ -26,13 +27,21 @@ impl Budget {
         points: usize,
         windows: &Windows,
         mapping: Mapping,
+        pixel_points: PixelPoints,
     ) -> Result<Self, CoreError> {
         let sizes = windows.sizes().map_err(|e| e.in_stage("downsampler"))?;
         Ok(Self {
             points,
             sizes,
             mapping,
+            pixel_points,
         })
+    }
+
+    /// The frame's points the baseline samples from: every point of the scan, or one per
+    /// pixel (`pixel_points`).
+    pub(crate) fn candidates(&self, frame: &LidarFrame) -> PointCloud {
+        frame.cloud(self.pixel_points)
     }
 
     /// The point count for `frame`: the fixed count, or what the keypoint windows select.
@@ -52,7 +61,7 @@ impl Budget {
             ));
         }
         select_pixels(frame, features, &self.sizes, self.mapping)
-            .map(|p| p.len())
+            .map(|p| frame.count_selected(&p, self.pixel_points))
             .map_err(|e| e.in_stage("downsampler"))
     }
 }

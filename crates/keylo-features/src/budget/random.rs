@@ -1,6 +1,6 @@
 //! `random`: a uniform sample of the frame's valid points.
 
-use keylo_core::{CoreError, Downsampler, FrameFeatures, LidarFrame, PointCloud};
+use keylo_core::{CoreError, Downsampler, FrameFeatures, LidarFrame, PixelPoints, PointCloud};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -21,6 +21,9 @@ pub struct RandomConfig {
     pub mapping: Mapping,
     /// Seed of the sample (combined with the frame index: runs are repeatable).
     pub seed: u64,
+    /// Sample from `all` points of an unorganised scan, or from one point per pixel
+    /// (`nearest`, as the images show them); also how the keypoint budget is counted.
+    pub pixel_points: PixelPoints,
 }
 
 impl Default for RandomConfig {
@@ -30,11 +33,13 @@ impl Default for RandomConfig {
             windows: Windows::default(),
             mapping: Mapping::Exact,
             seed: 0,
+            pixel_points: PixelPoints::All,
         }
     }
 }
 
-/// Keeps a uniform random subset of the valid points, in scan order, with their times.
+/// Keeps a uniform random subset of the frame's points (not at the origin), in scan order,
+/// with their times.
 pub struct RandomDownsampler {
     budget: Budget,
     seed: u64,
@@ -44,7 +49,12 @@ impl RandomDownsampler {
     /// Checks the config.
     pub fn new(config: RandomConfig) -> Result<Self, CoreError> {
         Ok(Self {
-            budget: Budget::new(config.points, &config.windows, config.mapping)?,
+            budget: Budget::new(
+                config.points,
+                &config.windows,
+                config.mapping,
+                config.pixel_points,
+            )?,
             seed: config.seed,
         })
     }
@@ -57,18 +67,21 @@ impl Downsampler for RandomDownsampler {
         features: &FrameFeatures,
     ) -> Result<PointCloud, CoreError> {
         let n = self.budget.for_frame(frame, features)?;
-        let valid: Vec<usize> = (0..frame.rows * frame.cols)
-            .filter(|&i| frame.valid[i] && frame.range[i] > 0.0)
+        let all = self.budget.candidates(frame);
+        let valid: Vec<usize> = (0..all.len())
+            .filter(|&i| all.points[i].coords.norm_squared() > 0.0)
             .collect();
-        if n >= valid.len() {
-            return Ok(frame.cloud_of_pixels(valid.into_iter()));
-        }
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed ^ frame.index.rotate_left(32));
-        let mut picked: Vec<usize> = rand::seq::index::sample(&mut rng, valid.len(), n)
-            .into_iter()
-            .map(|k| valid[k])
-            .collect();
-        picked.sort_unstable();
-        Ok(frame.cloud_of_pixels(picked.into_iter()))
+        let picked: Vec<usize> = if n >= valid.len() {
+            valid
+        } else {
+            let mut p: Vec<usize> = rand::seq::index::sample(&mut rng, valid.len(), n)
+                .into_iter()
+                .map(|k| valid[k])
+                .collect();
+            p.sort_unstable();
+            p
+        };
+        Ok(all.subset(&picked))
     }
 }

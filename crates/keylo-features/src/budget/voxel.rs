@@ -1,6 +1,6 @@
 //! `voxel-budget`: a voxel grid whose size is searched per frame to meet a point budget.
 
-use keylo_core::{CoreError, Downsampler, FrameFeatures, LidarFrame, PointCloud};
+use keylo_core::{CoreError, Downsampler, FrameFeatures, LidarFrame, PixelPoints, PointCloud};
 use keylo_registration::voxel::downsample_indices;
 use serde::{Deserialize, Serialize};
 
@@ -20,6 +20,9 @@ pub struct VoxelBudgetConfig {
     pub mapping: Mapping,
     /// Bisection steps of the voxel size search (each one voxelises the frame once).
     pub search_steps: usize,
+    /// Voxelise `all` points of an unorganised scan, or one point per pixel (`nearest`, as
+    /// the images show them); also how the keypoint budget is counted.
+    pub pixel_points: PixelPoints,
 }
 
 impl Default for VoxelBudgetConfig {
@@ -29,6 +32,7 @@ impl Default for VoxelBudgetConfig {
             windows: Windows::default(),
             mapping: Mapping::Exact,
             search_steps: 16,
+            pixel_points: PixelPoints::All,
         }
     }
 }
@@ -44,7 +48,12 @@ impl VoxelBudgetDownsampler {
     /// Checks the config.
     pub fn new(config: VoxelBudgetConfig) -> Result<Self, CoreError> {
         Ok(Self {
-            budget: Budget::new(config.points, &config.windows, config.mapping)?,
+            budget: Budget::new(
+                config.points,
+                &config.windows,
+                config.mapping,
+                config.pixel_points,
+            )?,
             steps: config.search_steps.clamp(1, 64),
         })
     }
@@ -60,7 +69,7 @@ impl Downsampler for VoxelBudgetDownsampler {
         features: &FrameFeatures,
     ) -> Result<PointCloud, CoreError> {
         let n = self.budget.for_frame(frame, features)?.max(1);
-        let full = frame.to_cloud();
+        let full = self.budget.candidates(frame);
         if n >= full.len() {
             return Ok(full);
         }

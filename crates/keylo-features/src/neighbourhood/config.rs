@@ -2,6 +2,7 @@
 
 use std::collections::BTreeMap;
 
+use keylo_core::PixelPoints;
 use serde::{Deserialize, Serialize};
 
 use crate::FeaturesError;
@@ -118,6 +119,11 @@ pub struct NeighbourhoodConfig {
     pub min_points: usize,
     /// Below `min_points`: `error`, or register `all-points` of the frame.
     pub on_too_few: TooFew,
+    /// Unorganised scans (KITTI, PLY/PCD, unorganised PointCloud2) can put several points
+    /// into one pixel: `all` keeps every point of a selected pixel, `nearest` only the one
+    /// the images show (one point per pixel, as the paper's organised Ouster cloud gives).
+    /// Organised frames have one point per pixel: both are the same.
+    pub pixel_points: PixelPoints,
 }
 
 impl Default for NeighbourhoodConfig {
@@ -129,6 +135,7 @@ impl Default for NeighbourhoodConfig {
             matched_fraction: 0.9,
             min_points: 100,
             on_too_few: TooFew::Error,
+            pixel_points: PixelPoints::All,
         }
     }
 }

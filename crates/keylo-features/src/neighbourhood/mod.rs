@@ -70,18 +70,20 @@ impl Downsampler for KeypointNeighbourhood {
         };
         let pixels = select_pixels(frame, features, &self.sizes, self.config.mapping)
             .map_err(|e| e.in_stage("downsampler"))?;
-        if pixels.len() >= self.config.min_points {
-            return Ok(frame.cloud_of_pixels(pixels.into_iter()));
+        let mode = self.config.pixel_points;
+        let selected = frame.count_selected(&pixels, mode);
+        if selected >= self.config.min_points {
+            return Ok(frame.cloud_of_selected(&pixels, mode));
         }
         match self.config.on_too_few {
-            TooFew::AllPoints => Ok(frame.to_cloud()),
+            TooFew::AllPoints => Ok(frame.cloud(mode)),
             TooFew::Error => Err(CoreError::BadFrame {
                 frame: frame.index,
                 message: format!(
                     "too few points: the keypoint windows selected {} valid points from {} \
                      keypoints, fewer than downsampler.min_points = {} (set \
                      downsampler.on_too_few = \"all-points\" to register the whole frame instead)",
-                    pixels.len(),
+                    selected,
                     features.keypoint_count(),
                     self.config.min_points
                 ),

@@ -3,10 +3,12 @@
 //! pixel ([`organised`]), unorganised ones are projected onto a spherical grid
 //! ([`projection`]).
 
+mod correction;
 pub mod organised;
 pub mod projection;
 mod projection_config;
 mod raw;
 
+pub use correction::{VerticalAngleCorrection, KISS_ICP_KITTI_DEG};
 pub use projection::{ProjectionConfig, Projector, RowSource};
 pub use raw::RawCloud;

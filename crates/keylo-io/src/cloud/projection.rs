@@ -3,15 +3,16 @@
 //! The column is the azimuth, clockwise seen from above with column 0 on the +x axis (the
 //! layout of Ouster's destaggered images). The row is the point's beam: its ring index when
 //! the cloud has one, else its elevation binned against a beam table or an even split of the
-//! vertical field of view. When several points fall into one pixel the nearest is kept.
-//! The frame's [`PixelIndexMap`] records both directions of the mapping.
+//! vertical field of view. The frame carries every finite point of the cloud in file order
+//! ([`ScanPoints`], with each point's pixel); when several points fall into one pixel, the
+//! image grids show the nearest (the first in file order among equally near ones).
 
 use std::f64::consts::TAU;
 use std::sync::Arc;
 
 pub use super::projection_config::{ProjectionConfig, RingOrder, RowSource};
-use super::{organised::column_times, RawCloud};
-use keylo_core::{BeamGeometry, LidarFrame, PixelIndexMap};
+use super::{organised::column_times, RawCloud, VerticalAngleCorrection};
+use keylo_core::{BeamGeometry, LidarFrame, ScanPoints};
 use nalgebra::Point3;
 
 /// Projects the clouds of one sequence (the ring order, once decided, holds for all).
@@ -22,6 +23,7 @@ pub struct Projector {
     altitudes: Vec<f64>,
     beams: Arc<BeamGeometry>,
     top_first: Option<bool>,
+    correction: Option<VerticalAngleCorrection>,
 }
 
 impl Projector {
@@ -49,7 +51,14 @@ impl Projector {
             altitudes,
             beams,
             top_first,
+            correction: None,
         })
+    }
+
+    /// Applies `correction` to every point as it is read (before its pixel is found).
+    pub fn with_correction(mut self, correction: Option<VerticalAngleCorrection>) -> Self {
+        self.correction = correction;
+        self
     }
 
     /// The beam geometry every projected frame carries.
@@ -80,26 +89,60 @@ impl Projector {
         }
         let (rows, cols) = (self.rows, self.config.cols);
         let mut f = LidarFrame::empty(index, cloud.timestamp, rows, cols, Arc::clone(&self.beams));
-        let mut map = PixelIndexMap {
-            pixel_to_point: vec![PixelIndexMap::NONE; rows * cols],
-            point_to_pixel: vec![PixelIndexMap::NONE; cloud.len()],
+        let period = (self.config.frame_rate_hz > 0.0).then(|| 1.0 / self.config.frame_rate_hz);
+        let mut scan = ScanPoints {
+            pixel_to_point: vec![ScanPoints::NONE; rows * cols],
+            ..ScanPoints::default()
         };
+        let n = cloud.len();
+        scan.points.reserve(n);
+        scan.source_index.reserve(n);
+        scan.pixel.reserve(n);
+        let mut times = (cloud.time.is_some() || period.is_some()).then(|| Vec::with_capacity(n));
+        let mut intensity = cloud.intensity.as_ref().map(|_| Vec::with_capacity(n));
+        let mut ring_out = cloud.ring.as_ref().map(|_| Vec::with_capacity(n));
         let mut time_samples = Vec::new();
         for (i, p) in cloud.points.iter().enumerate() {
-            let v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
-            let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            if !norm.is_finite() || norm == 0.0 {
+            let file_time = cloud.time.as_ref().map(|t| t[i]);
+            if !p.iter().all(|v| v.is_finite()) || file_time.is_some_and(|t| !t.is_finite()) {
                 continue;
             }
-            let row = match rings {
-                Some(r) => Some(self.ring_row(r[i])),
-                None => self.elevation_row((v[2] / norm).asin().to_degrees()),
-            };
-            let Some(row) = row else { continue };
+            let k = scan.points.len() as u32;
+            let mut v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
+            if let Some(c) = &self.correction {
+                v = c.apply(v);
+                if !v.iter().all(|x| x.is_finite()) {
+                    continue;
+                }
+            }
+            scan.points.push(Point3::from(v));
+            scan.source_index.push(i as u32);
+            if let (Some(out), Some(v)) = (intensity.as_mut(), cloud.intensity.as_ref()) {
+                out.push(v[i]);
+            }
+            if let (Some(out), Some(r)) = (ring_out.as_mut(), cloud.ring.as_ref()) {
+                out.push(r[i]);
+            }
+            let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
             let col = azimuth_column(v[0], v[1], cols);
+            if let Some(out) = times.as_mut() {
+                out.push(file_time.unwrap_or_else(|| period.unwrap_or(0.0) * col as f64 / cols as f64));
+            }
+            let row = if norm == 0.0 {
+                None
+            } else {
+                match rings {
+                    Some(r) => Some(self.ring_row(r[i])),
+                    None => self.elevation_row((v[2] / norm).asin().to_degrees()),
+                }
+            };
+            let Some(row) = row else {
+                scan.pixel.push(ScanPoints::NONE);
+                continue;
+            };
             let pixel = row * cols + col;
-            map.point_to_pixel[i] = pixel as u32;
-            if let Some(t) = cloud.time.as_ref().map(|t| t[i]) {
+            scan.pixel.push(pixel as u32);
+            if let Some(t) = file_time {
                 time_samples.push((col, t));
             }
             let range = cloud.range.as_ref().map_or(norm as f32, |r| r[i]);
@@ -108,26 +151,28 @@ impl Projector {
             }
             f.valid[pixel] = true;
             f.range[pixel] = range;
-            f.points[pixel] = Point3::new(p[0], p[1], p[2]);
+            f.points[pixel] = Point3::new(v[0] as f32, v[1] as f32, v[2] as f32);
             f.signal[pixel] = channel_value(cloud.intensity.as_deref(), i);
             f.reflectivity[pixel] = channel_value(cloud.reflectivity.as_deref(), i);
             f.near_ir[pixel] = channel_value(cloud.near_ir.as_deref(), i);
-            map.pixel_to_point[pixel] = i as u32;
+            scan.pixel_to_point[pixel] = k;
         }
+        scan.times = times;
+        scan.intensity = intensity;
+        scan.ring = ring_out;
         f.column_times = if cloud.time.is_some() {
             column_times(cloud.timestamp, cols, time_samples.into_iter())
-        } else if self.config.frame_rate_hz > 0.0 {
-            let period = 1.0 / self.config.frame_rate_hz;
+        } else if let Some(period) = period {
             (0..cols)
                 .map(|c| cloud.timestamp + period * c as f64 / cols as f64)
                 .collect()
         } else {
             vec![cloud.timestamp; cols]
         };
-        if let Some(times) = &cloud.time {
-            f.pixel_times = Some(pixel_times(&f, &map.pixel_to_point, times));
+        if let (Some(_), Some(times)) = (&cloud.time, &scan.times) {
+            f.pixel_times = Some(pixel_times(&f, &scan.pixel_to_point, times));
         }
-        f.index_map = Some(Arc::new(map));
+        f.scan = Some(Arc::new(scan));
         Ok(f)
     }
 
@@ -163,13 +208,14 @@ impl Projector {
     }
 }
 
-/// The time of the point kept in each pixel; empty pixels get their column's time.
+/// The time of the point kept in each pixel (`times` are the scan points' times); empty
+/// pixels get their column's time.
 fn pixel_times(f: &LidarFrame, pixel_to_point: &[u32], times: &[f64]) -> Vec<f64> {
     pixel_to_point
         .iter()
         .enumerate()
         .map(|(p, &i)| match times.get(i as usize) {
-            Some(t) if i != PixelIndexMap::NONE => f.timestamp + t,
+            Some(t) if i != ScanPoints::NONE => f.timestamp + t,
             _ => f.column_times[p % f.cols],
         })
         .collect()
@@ -256,9 +302,11 @@ mod tests {
             ..RawCloud::default()
         };
         let f = p.project(&cloud, 0).unwrap();
-        let map = f.index_map.as_ref().unwrap();
-        assert_eq!(map.point_to_pixel, vec![0, 8, PixelIndexMap::NONE]);
-        assert_eq!(map.pixel_to_point[0], 0);
+        let scan = f.scan.as_ref().unwrap();
+        assert_eq!(scan.pixel, vec![0, 8, ScanPoints::NONE]);
+        assert_eq!(scan.pixel_to_point[0], 0);
+        // The point below the field of view has no pixel but stays in the frame.
+        assert_eq!(f.to_cloud().len(), 3);
         assert_eq!(f.valid_count(), 2);
         assert!((f.range[8] - 5.0).abs() < 1e-5);
     }
@@ -280,11 +328,15 @@ mod tests {
             ..RawCloud::default()
         };
         let f = p.project(&cloud, 0).unwrap();
-        let map = f.index_map.as_ref().unwrap();
+        let scan = f.scan.as_ref().unwrap();
         assert!(f.pixel_times.is_none());
-        assert_eq!(map.pixel_to_point[0], 1);
-        assert_eq!(map.point_to_pixel, vec![0, 0, 0]);
+        assert_eq!(scan.pixel_to_point[0], 1);
+        assert_eq!(scan.pixel, vec![0, 0, 0]);
         assert_eq!(f.signal[0], 2.0);
+        // Every point reaches the cloud, in file order, with its own intensity.
+        let all = f.to_cloud();
+        assert_eq!(all.intensities, Some(vec![1.0, 2.0, 3.0]));
+        assert_eq!(f.cloud(keylo_core::PixelPoints::Nearest).len(), 1);
     }
 
     #[test]
@@ -296,8 +348,8 @@ mod tests {
             ..RawCloud::default()
         };
         let f = p.project(&cloud, 0).unwrap();
-        let map = f.index_map.as_ref().unwrap();
-        assert_eq!(map.point_to_pixel, vec![4, 0]);
+        let scan = f.scan.as_ref().unwrap();
+        assert_eq!(scan.pixel, vec![4, 0]);
         let bad = RawCloud {
             points: vec![point(0.0, 0.0, 1.0)],
             ring: Some(vec![7]),

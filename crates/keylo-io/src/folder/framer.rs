@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use keylo_core::{BeamGeometry, LidarFrame};
 
-use crate::cloud::{organised, ProjectionConfig, Projector, RawCloud};
+use crate::cloud::{organised, ProjectionConfig, Projector, RawCloud, VerticalAngleCorrection};
 
 /// Turns the clouds of one sequence into frames.
 #[derive(Debug, Clone)]
@@ -27,6 +27,12 @@ impl Framer {
             projector,
             organised: None,
         })
+    }
+
+    /// Applies `correction` to the points of unorganised clouds as they are read.
+    pub fn with_correction(mut self, correction: Option<VerticalAngleCorrection>) -> Self {
+        self.projector = self.projector.with_correction(correction);
+        self
     }
 
     /// The frame of `cloud` (organised when `cloud.grid` is set); the error says which field
@@ -79,13 +85,13 @@ mod tests {
         let frame = f.frame(&cloud, 3).unwrap();
         assert_eq!((frame.rows, frame.cols, frame.index), (2, 3, 3));
         assert_eq!(frame.beams.altitude_deg, vec![3.0, -25.0]);
-        assert!(frame.index_map.is_none());
+        assert!(frame.scan.is_none());
         let loose = RawCloud {
             grid: None,
             ..cloud
         };
         let frame = f.frame(&loose, 4).unwrap();
         assert_eq!((frame.rows, frame.cols), (64, 1024));
-        assert!(frame.index_map.is_some());
+        assert!(frame.scan.is_some());
     }
 }

@@ -60,6 +60,12 @@ impl FileSequence {
         self.files.get(i).map(PathBuf::as_path)
     }
 
+    /// The file of frame `index` (its index among the folder's files).
+    pub fn path_of(&self, index: u64) -> Option<&Path> {
+        let i = usize::try_from(index).ok()?;
+        self.files.get(i).map(PathBuf::as_path)
+    }
+
     /// The next selected file, `None` after the last.
     pub fn next_file(&mut self) -> Option<FileEntry<'_>> {
         let index = *self.selected.get(self.next)?;

@@ -130,7 +130,7 @@ pub fn decode(path: &Path, bytes: &[u8], beams: &Arc<BeamGeometry>) -> Result<Li
         points,
         valid,
         beams: Arc::clone(beams),
-        index_map: None,
+        scan: None,
     })
 }
 

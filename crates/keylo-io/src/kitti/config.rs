@@ -25,6 +25,11 @@ pub struct KittiSourceConfig {
     /// to the sequence folder; converted to the LiDAR frame with `calib.txt`'s `Tr`. Empty:
     /// `poses.txt` when the folder has one.
     pub poses: String,
+    /// Rotate every point up by this angle (degrees) about the horizontal axis perpendicular
+    /// to it, as KISS-ICP's `--dataloader kitti` does (0.205; also IMLS-SLAM, CT-ICP) to
+    /// undo a bias of KITTI's calibration. 0: the points as the files hold them (KISS-ICP's
+    /// generic loader for a folder of `.bin` files).
+    pub vertical_angle_correction_deg: f64,
     /// `[source.projection]`: how scans become images. The defaults suit KITTI's HDL-64E
     /// (64 × 1024, +3° to −25°).
     pub projection: ProjectionConfig,
@@ -39,6 +44,7 @@ impl Default for KittiSourceConfig {
             max_frames: 0,
             frame_rate_hz: 10.0,
             poses: String::new(),
+            vertical_angle_correction_deg: 0.0,
             projection: ProjectionConfig::default(),
         }
     }

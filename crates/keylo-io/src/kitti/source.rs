@@ -8,7 +8,7 @@ use keylo_core::{BuildContext, CoreError, ImageSource, LidarFrame, SourceInfo, T
 use super::config::KittiSourceConfig;
 use super::ground_truth::lidar_ground_truth;
 use super::side_files::{read_calib_tr, read_times};
-use crate::cloud::RawCloud;
+use crate::cloud::{RawCloud, VerticalAngleCorrection};
 use crate::folder::{has_extension, index_stamps, list_files, FileSequence, Framer};
 use crate::kitti_bin::read_kitti_bin;
 use crate::point_files::check_frame_rate;
@@ -43,7 +43,16 @@ impl KittiSource {
         }
         check_frame_rate(config.frame_rate_hz).map_err(key)?;
         let selection = config.selection().map_err(key)?;
-        let framer = Framer::new(config.projection.clone(), "HDL-64E").map_err(key)?;
+        let correction = config.vertical_angle_correction_deg;
+        if !(correction.is_finite() && correction.abs() <= 10.0) {
+            return Err(key(format!(
+                "`vertical_angle_correction_deg` = {correction}; expected -10..=10 degrees \
+                 (KISS-ICP's KITTI loader: 0.205)"
+            )));
+        }
+        let framer = Framer::new(config.projection.clone(), "HDL-64E")
+            .map_err(key)?
+            .with_correction(VerticalAngleCorrection::new(correction));
         let layout = layout(&ctx.resolve_path(&config.path))?;
         let n = layout.scans.len();
         let times = layout.side_file("times.txt");
@@ -187,6 +196,10 @@ impl ImageSource for KittiSource {
             description: self.description.clone(),
             frames: Some(self.files.selected()),
         }
+    }
+
+    fn frame_origin(&self, index: u64) -> Option<String> {
+        self.files.path_of(index).map(|p| p.display().to_string())
     }
 
     fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>> {

@@ -150,6 +150,10 @@ impl ImageSource for PointFilesSource {
         }
     }
 
+    fn frame_origin(&self, index: u64) -> Option<String> {
+        self.files.path_of(index).map(|p| p.display().to_string())
+    }
+
     fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>> {
         let entry = self.files.next_file()?;
         let path = entry.path;

@@ -85,7 +85,7 @@ pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, String> {
         // SAFETY: the caller guarantees the buffer holds the documented values.
         valid: unsafe { copy_slice(f.valid, n, "valid") }?,
         beams: Arc::new(BeamGeometry::unknown("unknown (plugin ABI v1)", cols)),
-        index_map: None,
+        scan: None,
     })
 }
 

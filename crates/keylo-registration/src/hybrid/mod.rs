@@ -119,7 +119,7 @@ impl Hybrid {
         keypoints: &FrameKeypoints,
     ) -> Result<Outcome, RegistrationError> {
         let keypoints = self.deskewed(keypoints, cloud);
-        let prepared = self.icp.prepare(cloud)?;
+        let prepared = self.icp.prepare(cloud, false)?;
         let rules = MatchRules {
             ratio: self.config.match_ratio,
             cross_check: self.config.cross_check,

@@ -56,6 +56,24 @@ pub struct KissIcpConfig {
     pub max_motion_per_frame: f64,
     /// Per-frame degeneracy analysis (point-to-plane information at convergence).
     pub degeneracy: DegeneracyConfig,
+    /// A frame with no point to register (an empty scan, or none within the range limits):
+    /// `predict` gives it the constant-velocity prediction and goes on, as upstream does
+    /// (the run reports such frames); `error` stops it with an error naming the frame.
+    /// The `hybrid` registrar always stops.
+    pub empty_frame: EmptyFrame,
+}
+
+/// `empty_frame`: what a frame without a point to register gets.
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum EmptyFrame {
+    /// The motion model's prediction (upstream KISS-ICP's behaviour).
+    #[default]
+    Predict,
+    /// An error naming the frame.
+    Error,
 }
 
 impl Default for KissIcpConfig {
@@ -76,6 +94,7 @@ impl Default for KissIcpConfig {
             max_num_threads: 0,
             max_motion_per_frame: 5.0,
             degeneracy: DegeneracyConfig::default(),
+            empty_frame: EmptyFrame::Predict,
         }
     }
 }
@@ -247,9 +266,15 @@ impl KissIcp {
 
     /// Deskews, crops and downsamples a cloud and predicts its pose: everything before the
     /// alignment (shared with the `hybrid` registrar).
-    pub(crate) fn prepare(&mut self, cloud: &PointCloud) -> Result<Prepared, RegistrationError> {
+    /// With `allow_empty` a frame with no point in range is prepared too (its alignment
+    /// returns the prediction); otherwise it is an error.
+    pub(crate) fn prepare(
+        &mut self,
+        cloud: &PointCloud,
+        allow_empty: bool,
+    ) -> Result<Prepared, RegistrationError> {
         let frame = self.preprocess(cloud);
-        if frame.is_empty() {
+        if frame.is_empty() && !allow_empty {
             return Err(frame_step::nothing_in_range(
                 cloud,
                 (self.config.min_range, self.config.max_range),
@@ -331,7 +356,7 @@ impl KissIcp {
         max_distance: f64,
     ) -> Option<Degeneracy> {
         let c = &self.config.degeneracy;
-        if !c.analyse || self.map.is_empty() {
+        if !c.analyse || self.map.is_empty() || source.is_empty() {
             return None;
         }
         let info =
@@ -348,7 +373,8 @@ impl KissIcp {
         &mut self,
         cloud: &PointCloud,
     ) -> Result<(IcpResult, usize, Option<Degeneracy>), RegistrationError> {
-        let prepared = self.prepare(cloud)?;
+        let allow_empty = self.config.empty_frame == EmptyFrame::Predict;
+        let prepared = self.prepare(cloud, allow_empty)?;
         let result = icp::align(
             &prepared.source,
             &self.map,
@@ -396,5 +422,9 @@ impl Registrar for KissIcp {
 
     fn map_size(&self) -> usize {
         self.map.len()
+    }
+
+    fn accepts_empty_clouds(&self) -> bool {
+        self.config.empty_frame == EmptyFrame::Predict
     }
 }
