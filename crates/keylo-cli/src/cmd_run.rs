@@ -8,7 +8,9 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use keylo::config::{OnBadFrame, PipelineConfig};
-use keylo::{CoreError, FrameResult, LidarFrame, Pipeline, Trajectory};
+use keylo::{
+    CoreError, FrameResult, ImageSource, LidarFrame, Pipeline, Prefetched, Trajectory,
+};
 
 use crate::args::RunArgs;
 use crate::degeneracy_out::{self, DegeneracyRow};
@@ -39,7 +41,12 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         keylo::config::render_resolved(&config, &registry),
     )
     .with_context(|| format!("writing {}", out.join("config.toml").display()))?;
-    let mut pipeline = Pipeline::build(&config, &registry)?;
+    let Pipeline { source, odometry } = Pipeline::build(&config, &registry)?;
+    let source: Box<dyn ImageSource> = match args.prefetch {
+        0 => source,
+        n => Box::new(Prefetched::new(source, usize::from(n))?),
+    };
+    let mut pipeline = Pipeline { source, odometry };
     let info = pipeline.source.info();
     tracing::info!("source: {}; output: {}", info.description, out.display());
 

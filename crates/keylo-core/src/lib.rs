@@ -28,7 +28,9 @@ pub use frame::{BeamGeometry, Channel, LidarFrame};
 pub use scan::{GridOccupancy, PixelPoints, ScanPoints};
 pub use image::Image;
 pub use keypoints3d::{FrameKeypoints, ImageKeypoints};
-pub use pipeline::{build_source, FrameResult, Odometry, PerImage, Pipeline, StageTimings};
+pub use pipeline::{
+    build_source, FrameResult, Odometry, PerImage, Pipeline, Prefetched, StageTimings,
+};
 pub use registry::{BuildContext, Registry};
 pub use stages::{
     Descriptor, Detector, Downsampler, ImageBuilder, ImageSource, Registrar, Registration,

@@ -1,12 +1,14 @@
 //! Composes the stages: [`Odometry`] turns frames into poses; [`Pipeline`] adds the source.
 
 mod per_image;
+mod prefetch;
 
 use std::time::Instant;
 
 use rayon::prelude::*;
 
 pub use per_image::PerImage;
+pub use prefetch::Prefetched;
 
 use crate::config::{PipelineConfig, StageConfig};
 use crate::registry::Backends;

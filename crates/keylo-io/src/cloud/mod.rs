@@ -3,11 +3,13 @@
 //! pixel ([`organised`]), unorganised ones are projected onto a spherical grid
 //! ([`projection`]).
 
+mod azimuth;
 mod correction;
 pub mod organised;
 pub mod projection;
 mod projection_config;
 mod raw;
+mod rows;
 
 pub use correction::{VerticalAngleCorrection, KISS_ICP_KITTI_DEG};
 pub use projection::{ProjectionConfig, Projector, RowSource};

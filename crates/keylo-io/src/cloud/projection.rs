@@ -7,11 +7,13 @@
 //! ([`ScanPoints`], with each point's pixel); when several points fall into one pixel, the
 //! image grids show the nearest (the first in file order among equally near ones).
 
-use std::f64::consts::TAU;
 use std::sync::Arc;
 
 pub use super::projection_config::{ProjectionConfig, RingOrder, RowSource};
+use super::azimuth::azimuth_column;
+use super::rows::RowLookup;
 use super::{organised::column_times, RawCloud, VerticalAngleCorrection};
+use rayon::prelude::*;
 use keylo_core::{BeamGeometry, LidarFrame, ScanPoints};
 use nalgebra::Point3;
 
@@ -20,7 +22,7 @@ use nalgebra::Point3;
 pub struct Projector {
     config: ProjectionConfig,
     rows: usize,
-    altitudes: Vec<f64>,
+    lookup: RowLookup,
     beams: Arc<BeamGeometry>,
     top_first: Option<bool>,
     correction: Option<VerticalAngleCorrection>,
@@ -48,7 +50,7 @@ impl Projector {
         Ok(Self {
             config,
             rows,
-            altitudes,
+            lookup: RowLookup::new(altitudes),
             beams,
             top_first,
             correction: None,
@@ -88,70 +90,61 @@ impl Projector {
             }
         }
         let (rows, cols) = (self.rows, self.config.cols);
+        // Pass 1, in parallel: each point's corrected coordinates, column and pixel (the
+        // trigonometry). Pass 2, in file order: the scan and the grid.
+        let located: Vec<Located> = cloud
+            .points
+            .par_iter()
+            .enumerate()
+            .with_min_len(8192)
+            .map(|(i, p)| self.locate(cloud, rings, i, p))
+            .collect();
         let mut f = LidarFrame::empty(index, cloud.timestamp, rows, cols, Arc::clone(&self.beams));
         let period = (self.config.frame_rate_hz > 0.0).then(|| 1.0 / self.config.frame_rate_hz);
+        let kept = located.iter().filter(|l| l.pixel != DROPPED).count();
         let mut scan = ScanPoints {
             pixel_to_point: vec![ScanPoints::NONE; rows * cols],
+            points: Vec::with_capacity(kept),
+            source_index: Vec::with_capacity(kept),
+            pixel: Vec::with_capacity(kept),
             ..ScanPoints::default()
         };
-        let n = cloud.len();
-        scan.points.reserve(n);
-        scan.source_index.reserve(n);
-        scan.pixel.reserve(n);
-        let mut times = (cloud.time.is_some() || period.is_some()).then(|| Vec::with_capacity(n));
-        let mut intensity = cloud.intensity.as_ref().map(|_| Vec::with_capacity(n));
-        let mut ring_out = cloud.ring.as_ref().map(|_| Vec::with_capacity(n));
+        let mut times = (cloud.time.is_some() || period.is_some()).then(|| Vec::with_capacity(kept));
+        let mut intensity = cloud.intensity.as_ref().map(|_| Vec::with_capacity(kept));
+        let mut ring_out = cloud.ring.as_ref().map(|_| Vec::with_capacity(kept));
         let mut time_samples = Vec::new();
-        for (i, p) in cloud.points.iter().enumerate() {
-            let file_time = cloud.time.as_ref().map(|t| t[i]);
-            if !p.iter().all(|v| v.is_finite()) || file_time.is_some_and(|t| !t.is_finite()) {
+        for (i, l) in located.iter().enumerate() {
+            if l.pixel == DROPPED {
                 continue;
             }
             let k = scan.points.len() as u32;
-            let mut v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
-            if let Some(c) = &self.correction {
-                v = c.apply(v);
-                if !v.iter().all(|x| x.is_finite()) {
-                    continue;
-                }
-            }
-            scan.points.push(Point3::from(v));
+            scan.points.push(Point3::from(l.xyz));
             scan.source_index.push(i as u32);
+            scan.pixel.push(l.pixel);
             if let (Some(out), Some(v)) = (intensity.as_mut(), cloud.intensity.as_ref()) {
                 out.push(v[i]);
             }
             if let (Some(out), Some(r)) = (ring_out.as_mut(), cloud.ring.as_ref()) {
                 out.push(r[i]);
             }
-            let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            let col = azimuth_column(v[0], v[1], cols);
+            let file_time = cloud.time.as_ref().map(|t| t[i]);
             if let Some(out) = times.as_mut() {
-                out.push(file_time.unwrap_or_else(|| period.unwrap_or(0.0) * col as f64 / cols as f64));
+                let spread = || period.unwrap_or(0.0) * f64::from(l.col) / cols as f64;
+                out.push(file_time.unwrap_or_else(spread));
             }
-            let row = if norm == 0.0 {
-                None
-            } else {
-                match rings {
-                    Some(r) => Some(self.ring_row(r[i])),
-                    None => self.elevation_row((v[2] / norm).asin().to_degrees()),
-                }
-            };
-            let Some(row) = row else {
-                scan.pixel.push(ScanPoints::NONE);
+            if l.pixel == ScanPoints::NONE {
                 continue;
-            };
-            let pixel = row * cols + col;
-            scan.pixel.push(pixel as u32);
-            if let Some(t) = file_time {
-                time_samples.push((col, t));
             }
-            let range = cloud.range.as_ref().map_or(norm as f32, |r| r[i]);
-            if f.valid[pixel] && f.range[pixel] <= range {
+            let pixel = l.pixel as usize;
+            if let Some(t) = file_time {
+                time_samples.push((l.col as usize, t));
+            }
+            if f.valid[pixel] && f.range[pixel] <= l.range {
                 continue;
             }
             f.valid[pixel] = true;
-            f.range[pixel] = range;
-            f.points[pixel] = Point3::new(v[0] as f32, v[1] as f32, v[2] as f32);
+            f.range[pixel] = l.range;
+            f.points[pixel] = Point3::new(l.xyz[0] as f32, l.xyz[1] as f32, l.xyz[2] as f32);
             f.signal[pixel] = channel_value(cloud.intensity.as_deref(), i);
             f.reflectivity[pixel] = channel_value(cloud.reflectivity.as_deref(), i);
             f.near_ir[pixel] = channel_value(cloud.near_ir.as_deref(), i);
@@ -176,6 +169,46 @@ impl Projector {
         Ok(f)
     }
 
+    /// Where point `i` (`p`) of `cloud` goes: [`DROPPED`] for a point with a non-finite
+    /// coordinate or time (before or after the correction), [`ScanPoints::NONE`] for one
+    /// outside the grid.
+    fn locate(&self, cloud: &RawCloud, rings: Option<&[u16]>, i: usize, p: &[f32; 3]) -> Located {
+        let dropped = Located {
+            xyz: [0.0; 3],
+            pixel: DROPPED,
+            col: 0,
+            range: 0.0,
+        };
+        let time_ok = cloud.time.as_ref().is_none_or(|t| t[i].is_finite());
+        let mut v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
+        if !time_ok || !v.iter().all(|x| x.is_finite()) {
+            return dropped;
+        }
+        if let Some(c) = &self.correction {
+            v = c.apply(v);
+            if !v.iter().all(|x| x.is_finite()) {
+                return dropped;
+            }
+        }
+        let cols = self.config.cols;
+        let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let col = azimuth_column(v[0], v[1], cols);
+        let row = if norm == 0.0 {
+            None
+        } else {
+            match rings {
+                Some(r) => Some(self.ring_row(r[i])),
+                None => self.lookup.row_of_sin(v[2] / norm),
+            }
+        };
+        Located {
+            xyz: v,
+            pixel: row.map_or(ScanPoints::NONE, |r| (r * cols + col) as u32),
+            col: col as u32,
+            range: cloud.range.as_ref().map_or(norm as f32, |r| r[i]),
+        }
+    }
+
     fn ring_row(&self, ring: u16) -> usize {
         let r = usize::from(ring);
         if self.top_first.unwrap_or(true) {
@@ -183,28 +216,6 @@ impl Projector {
         } else {
             self.rows - 1 - r
         }
-    }
-
-    /// The row of the nearest beam; `None` beyond half a beam spacing outside the table.
-    fn elevation_row(&self, elevation_deg: f64) -> Option<usize> {
-        let a = &self.altitudes;
-        let (top, bottom) = (*a.first()?, *a.last()?);
-        let margin = if a.len() > 1 {
-            0.5 * (top - bottom) / (a.len() - 1) as f64
-        } else {
-            0.5
-        };
-        if elevation_deg > top + margin || elevation_deg < bottom - margin {
-            return None;
-        }
-        // Altitudes descend: the first beam below the point and the one above it.
-        let below = a.partition_point(|&x| x > elevation_deg);
-        let candidates = [below.checked_sub(1), Some(below).filter(|&b| b < a.len())];
-        candidates.into_iter().flatten().min_by(|&x, &y| {
-            (a[x] - elevation_deg)
-                .abs()
-                .total_cmp(&(a[y] - elevation_deg).abs())
-        })
     }
 }
 
@@ -229,12 +240,19 @@ fn channel_value(values: Option<&[f32]>, i: usize) -> f32 {
         .unwrap_or(0.0)
 }
 
-/// Column of azimuth `atan2(y, x)`: clockwise from +x, centred on the column.
-fn azimuth_column(x: f64, y: f64, cols: usize) -> usize {
-    let clockwise = (-y.atan2(x)).rem_euclid(TAU);
-    let c = (clockwise / TAU * cols as f64).round() as usize;
-    c % cols
+/// Where a point goes ([`Projector::locate`]).
+struct Located {
+    /// Coordinates, corrected.
+    xyz: [f64; 3],
+    /// Row-major pixel, [`ScanPoints::NONE`] outside the grid, [`DROPPED`] not kept.
+    pixel: u32,
+    /// Azimuth column (also for points outside the grid).
+    col: u32,
+    range: f32,
 }
+
+/// [`Located::pixel`] of a point that is not kept (non-finite).
+const DROPPED: u32 = u32::MAX - 1;
 
 /// True when ring 0's points lie above those of the highest ring.
 fn ring_zero_is_top(cloud: &RawCloud, rings: &[u16]) -> bool {
@@ -279,15 +297,6 @@ mod tests {
             fov_down_deg: -10.0,
             ..ProjectionConfig::default()
         }
-    }
-
-    #[test]
-    fn azimuth_runs_clockwise_from_x() {
-        assert_eq!(azimuth_column(1.0, 0.0, 8), 0);
-        assert_eq!(azimuth_column(0.0, -1.0, 8), 2); // 90° clockwise
-        assert_eq!(azimuth_column(-1.0, 0.0, 8), 4);
-        assert_eq!(azimuth_column(0.0, 1.0, 8), 6);
-        assert_eq!(azimuth_column(1.0, 1e-9, 8), 0);
     }
 
     #[test]
