@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use keylo::io::export::png_image::write_channel_png;
-use keylo::{Channel, LidarFrame};
+use keylo::{Channel, GridOccupancy, LidarFrame};
 use serde::Serialize;
 
 use crate::args::InfoArgs;
@@ -25,10 +25,44 @@ struct Info {
     cols: usize,
     sensor: String,
     mean_valid_pixels: f64,
+    /// Unorganised sources: how their points fill the image grid (`None` for organised ones).
+    points: Option<PointStats>,
     channels_with_data: Vec<String>,
     ground_truth_poses: Option<usize>,
     images_written: Vec<String>,
     error: Option<String>,
+}
+
+/// How the points of an unorganised source fill its grid, per frame on average.
+#[derive(Debug, Default, Serialize)]
+struct PointStats {
+    /// Finite points per frame (every one reaches `passthrough`).
+    mean_points: f64,
+    /// Points per frame outside the grid (beyond the vertical field of view, at the origin).
+    mean_outside: f64,
+    /// Points per frame sharing a pixel with a nearer one (the images show one of them).
+    mean_sharing: f64,
+    /// Share of the points that share a pixel, percent.
+    sharing_pct: f64,
+    /// Most points in one pixel over all frames.
+    max_per_pixel: usize,
+}
+
+impl PointStats {
+    fn add(&mut self, o: &GridOccupancy) {
+        self.mean_points += o.points as f64;
+        self.mean_outside += o.outside as f64;
+        self.mean_sharing += o.sharing as f64;
+        self.max_per_pixel = self.max_per_pixel.max(o.max_per_pixel);
+    }
+
+    fn finish(&mut self, frames: usize) {
+        let n = frames.max(1) as f64;
+        self.mean_points /= n;
+        self.mean_outside /= n;
+        self.mean_sharing /= n;
+        self.sharing_pct = 100.0 * self.mean_sharing / self.mean_points.max(1.0);
+    }
 }
 
 pub fn run(args: InfoArgs) -> Result<ExitCode> {
@@ -60,6 +94,11 @@ pub fn run(args: InfoArgs) -> Result<ExitCode> {
         (info.rows, info.cols) = (frame.rows, frame.cols);
         info.sensor.clone_from(&frame.beams.model);
         valid += frame.valid_count();
+        if let Some(scan) = &frame.scan {
+            info.points
+                .get_or_insert_with(PointStats::default)
+                .add(&scan.occupancy());
+        }
         for (k, c) in Channel::ALL.into_iter().enumerate() {
             has_data[k] |= frame.channel(c).iter().any(|v| *v != 0.0);
         }
@@ -68,6 +107,9 @@ pub fn run(args: InfoArgs) -> Result<ExitCode> {
     info.details = source.details();
     info.duration_s = first.zip(last).map(|(a, b)| b - a);
     info.mean_valid_pixels = valid as f64 / info.frames.max(1) as f64;
+    if let Some(p) = info.points.as_mut() {
+        p.finish(info.frames);
+    }
     info.channels_with_data = Channel::ALL
         .into_iter()
         .zip(has_data)
@@ -129,6 +171,17 @@ fn print_text(info: &Info) {
         "valid pixels (mean)",
         format!("{:.0}", info.mean_valid_pixels),
     );
+    if let Some(p) = &info.points {
+        row("points (mean)", format!("{:.0}", p.mean_points));
+        row(
+            "sharing a pixel (mean)",
+            format!(
+                "{:.0} ({:.1} %; at most {} in one pixel)",
+                p.mean_sharing, p.sharing_pct, p.max_per_pixel
+            ),
+        );
+        row("outside the grid (mean)", format!("{:.0}", p.mean_outside));
+    }
     row("channels with data", info.channels_with_data.join(", "));
     if let Some(n) = info.ground_truth_poses {
         row("ground truth", format!("{n} poses"));
