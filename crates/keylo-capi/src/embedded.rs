@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use keylo::config::RawConfig;
-use keylo::io::cloud::{ProjectionConfig, Projector, RawCloud};
+use keylo::io::cloud::{ProjectionConfig, Projector, RawCloud, Sensor};
 use keylo::registry::parse_params;
 use keylo::{BeamGeometry, FrameResult, LidarFrame, Odometry};
 
@@ -32,7 +32,7 @@ impl Embedded {
         keylo::plugin::load_for_config(&mut registry, &raw)?;
         let config = registry.resolve(&raw)?;
         let odometry = Odometry::build(&config, &registry)?;
-        let projector = Projector::new(projection, "keylo C API")
+        let projector = Projector::from_config(&projection, Sensor::Generic)
             .map_err(|m| CapiError::Argument(format!("[source.projection]: {m}")))?;
         let beams = projector.beams().clone();
         Ok(Self {

@@ -113,4 +113,18 @@ fn param_rows(out: &mut String, prefix: &str, node: &Value, root: &Value, defaul
             let _ = writeln!(out, "| `{prefix}{key}` | `{value}` | {doc} |");
         }
     }
+    // Optional keys without a default of their own (they follow another key).
+    let unset = props
+        .and_then(Value::as_object)
+        .into_iter()
+        .flatten()
+        .filter(|(k, _)| !defaults.contains_key(k.as_str()));
+    for (key, field) in unset {
+        let doc = field
+            .get("description")
+            .and_then(Value::as_str)
+            .unwrap_or("")
+            .replace('\n', " ");
+        let _ = writeln!(out, "| `{prefix}{key}` | (unset) | {doc} |");
+    }
 }

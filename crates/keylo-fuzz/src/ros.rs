@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use keylo_core::{BeamGeometry, BuildContext};
 use keylo_io::cloud::organised::to_frame;
-use keylo_io::cloud::{ProjectionConfig, Projector};
+use keylo_io::cloud::{ProjectionConfig, Projector, Sensor};
 use keylo_io::ros::{bag_info, to_raw_cloud, BagFormat, BagSource, BagSourceConfig, Encoding};
 use keylo_io::ros::{decode_header, Image, ImageTopics, PointCloud2};
 
@@ -84,7 +84,7 @@ pub fn ros_messages(data: &[u8]) {
     if let Some((rows, cols)) = raw.grid {
         let beams = Arc::new(BeamGeometry::unknown("fuzz", cols));
         crate::check_frame(&to_frame(&raw, rows, cols, 0, beams));
-    } else if let Ok(mut projector) = Projector::new(ProjectionConfig::default(), "fuzz") {
+    } else if let Ok(mut projector) = Projector::from_config(&ProjectionConfig::default(), Sensor::Generic) {
         if let Ok(frame) = projector.project(&raw, 0) {
             crate::check_frame(&frame);
         }

@@ -39,7 +39,7 @@ fn real_scans_stream_with_times_from_times_txt() {
     let scan = first.scan.as_ref().unwrap();
     assert_eq!(scan.len(), 124_668, "points of 00/000000.bin");
     assert_eq!(first.to_cloud().len(), 124_668, "every point reaches the cloud");
-    assert_eq!((first.rows, first.cols, first.timestamp), (64, 1024, 0.0));
+    assert_eq!((first.rows, first.cols, first.timestamp), (64, 2048, 0.0));
     let second = src.next_frame().unwrap().unwrap();
     assert_eq!((second.index, second.timestamp), (1, 0.1037359));
     assert!(

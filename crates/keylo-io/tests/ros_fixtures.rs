@@ -162,8 +162,8 @@ fn unorganised_clouds_are_projected_by_ring() {
             .unwrap()
             .clone();
         let mut c = config(&path, "/cloud_unorganised");
-        c.projection.rows = 32;
-        c.projection.cols = 1024;
+        c.projection.rows = Some(32);
+        c.projection.cols = Some(1024);
         let frames = read(&c, format);
         let organised = read(&config(&path, "/ouster/points"), format);
         assert_eq!(frames.len(), 3);

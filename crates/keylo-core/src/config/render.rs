@@ -70,6 +70,15 @@ fn write_table(out: &mut String, path: &str, table: &toml::Table, schema: &Value
         }
         let _ = writeln!(out, "{key} = {value}");
     }
+    // Optional keys left unset (their default comes from another key, e.g. a sensor).
+    for (key, field) in unset_keys(props, table) {
+        if let Some(doc) = field.get("description").and_then(Value::as_str) {
+            for line in doc.lines() {
+                let _ = writeln!(out, "# {line}");
+            }
+        }
+        let _ = writeln!(out, "# {key} = (unset)");
+    }
     for (key, sub, field) in nested {
         let sub_path = format!("{path}.{key}");
         let _ = write!(out, "\n[{sub_path}]\n");
@@ -117,4 +126,16 @@ pub fn allowed_values(field: &Value, root: &Value) -> Vec<String> {
         }
     }
     values
+}
+
+/// The schema's properties that `table` does not hold (optional keys left unset).
+pub(crate) fn unset_keys<'a>(
+    props: Option<&'a Value>,
+    table: &'a toml::Table,
+) -> impl Iterator<Item = (&'a String, &'a Value)> {
+    props
+        .and_then(Value::as_object)
+        .into_iter()
+        .flatten()
+        .filter(move |(k, _)| !table.contains_key(k.as_str()))
 }

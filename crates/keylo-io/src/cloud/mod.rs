@@ -10,7 +10,8 @@ pub mod projection;
 mod projection_config;
 mod raw;
 mod rows;
+mod sensors;
 
 pub use correction::{VerticalAngleCorrection, KISS_ICP_KITTI_DEG};
-pub use projection::{ProjectionConfig, Projector, RowSource};
+pub use projection::{Grid, ProjectionConfig, Projector, RowSource, Sensor};
 pub use raw::RawCloud;

@@ -9,7 +9,7 @@
 
 use std::sync::Arc;
 
-pub use super::projection_config::{ProjectionConfig, RingOrder, RowSource};
+pub use super::projection_config::{Grid, ProjectionConfig, RingOrder, RowSource, Sensor};
 use super::azimuth::azimuth_column;
 use super::rows::RowLookup;
 use super::{organised::column_times, RawCloud, VerticalAngleCorrection};
@@ -20,8 +20,7 @@ use nalgebra::Point3;
 /// Projects the clouds of one sequence (the ring order, once decided, holds for all).
 #[derive(Debug, Clone)]
 pub struct Projector {
-    config: ProjectionConfig,
-    rows: usize,
+    grid: Grid,
     lookup: RowLookup,
     beams: Arc<BeamGeometry>,
     top_first: Option<bool>,
@@ -29,32 +28,34 @@ pub struct Projector {
 }
 
 impl Projector {
-    /// A projector for `config` (validated); `model` names the sensor in the frames' beams.
-    pub fn new(config: ProjectionConfig, model: &str) -> Result<Self, String> {
-        config.validate()?;
-        let altitudes = config.row_altitudes();
-        let rows = altitudes.len();
+    /// A projector for a resolved grid ([`ProjectionConfig::resolve`]).
+    pub fn new(grid: Grid) -> Self {
+        let rows = grid.rows;
         let beams = Arc::new(BeamGeometry {
-            model: model.to_string(),
-            altitude_deg: altitudes.clone(),
+            model: grid.model.clone(),
+            altitude_deg: grid.altitudes_deg.clone(),
             azimuth_deg: vec![0.0; rows],
             origin_to_beam_mm: 0.0,
-            columns_per_frame: config.cols,
-            frame_rate_hz: config.frame_rate_hz,
+            columns_per_frame: grid.cols,
+            frame_rate_hz: grid.frame_rate_hz,
         });
-        let top_first = match config.ring_order {
+        let top_first = match grid.ring_order {
             RingOrder::Auto => None,
             RingOrder::TopFirst => Some(true),
             RingOrder::BottomFirst => Some(false),
         };
-        Ok(Self {
-            config,
-            rows,
-            lookup: RowLookup::new(altitudes),
+        Self {
+            lookup: RowLookup::new(grid.altitudes_deg.clone()),
+            grid,
             beams,
             top_first,
             correction: None,
-        })
+        }
+    }
+
+    /// The projector of `config` for a source whose `auto` sensor is `source_default`.
+    pub fn from_config(config: &ProjectionConfig, source_default: Sensor) -> Result<Self, String> {
+        config.resolve(source_default).map(Self::new)
     }
 
     /// Applies `correction` to every point as it is read (before its pixel is found).
@@ -71,7 +72,7 @@ impl Projector {
     /// The frame of `cloud`; the error says which field is inconsistent.
     pub fn project(&mut self, cloud: &RawCloud, index: u64) -> Result<LidarFrame, String> {
         cloud.check()?;
-        let rings = match (self.config.row_from, &cloud.ring) {
+        let rings = match (self.grid.row_from, &cloud.ring) {
             (RowSource::Ring, None) => {
                 return Err("projection.row_from = \"ring\" but the cloud has no ring field".into())
             }
@@ -79,17 +80,17 @@ impl Projector {
             (_, Some(r)) => Some(r.as_slice()),
         };
         if let Some(rings) = rings {
-            if let Some(bad) = rings.iter().find(|&&r| usize::from(r) >= self.rows) {
+            if let Some(bad) = rings.iter().find(|&&r| usize::from(r) >= self.grid.rows) {
                 return Err(format!(
                     "ring {bad} is outside the {} projection rows (set projection.rows)",
-                    self.rows
+                    self.grid.rows
                 ));
             }
             if self.top_first.is_none() {
                 self.top_first = Some(ring_zero_is_top(cloud, rings));
             }
         }
-        let (rows, cols) = (self.rows, self.config.cols);
+        let (rows, cols) = (self.grid.rows, self.grid.cols);
         // Pass 1, in parallel: each point's corrected coordinates, column and pixel (the
         // trigonometry). Pass 2, in file order: the scan and the grid.
         let located: Vec<Located> = cloud
@@ -100,7 +101,7 @@ impl Projector {
             .map(|(i, p)| self.locate(cloud, rings, i, p))
             .collect();
         let mut f = LidarFrame::empty(index, cloud.timestamp, rows, cols, Arc::clone(&self.beams));
-        let period = (self.config.frame_rate_hz > 0.0).then(|| 1.0 / self.config.frame_rate_hz);
+        let period = (self.grid.frame_rate_hz > 0.0).then(|| 1.0 / self.grid.frame_rate_hz);
         let kept = located.iter().filter(|l| l.pixel != DROPPED).count();
         let mut scan = ScanPoints {
             pixel_to_point: vec![ScanPoints::NONE; rows * cols],
@@ -190,7 +191,7 @@ impl Projector {
                 return dropped;
             }
         }
-        let cols = self.config.cols;
+        let cols = self.grid.cols;
         let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         let col = azimuth_column(v[0], v[1], cols);
         let row = if norm == 0.0 {
@@ -214,7 +215,7 @@ impl Projector {
         if self.top_first.unwrap_or(true) {
             r
         } else {
-            self.rows - 1 - r
+            self.grid.rows - 1 - r
         }
     }
 }
@@ -291,17 +292,21 @@ mod tests {
 
     fn config(rows: usize, cols: usize) -> ProjectionConfig {
         ProjectionConfig {
-            rows,
-            cols,
-            fov_up_deg: 10.0,
-            fov_down_deg: -10.0,
+            rows: Some(rows),
+            cols: Some(cols),
+            fov_up_deg: Some(10.0),
+            fov_down_deg: Some(-10.0),
             ..ProjectionConfig::default()
         }
     }
 
+    fn projector(c: ProjectionConfig) -> Result<Projector, String> {
+        Projector::from_config(&c, Sensor::Generic)
+    }
+
     #[test]
     fn elevation_bins_to_the_nearest_row_and_drops_outside() {
-        let mut p = Projector::new(config(3, 8), "t").unwrap();
+        let mut p = projector(config(3, 8)).unwrap();
         let cloud = RawCloud {
             points: vec![
                 point(0.0, 9.0, 5.0),
@@ -323,10 +328,10 @@ mod tests {
     #[test]
     fn the_nearest_point_wins_a_pixel() {
         let one_beam = ProjectionConfig {
-            altitudes_deg: vec![0.0],
+            altitudes_deg: Some(vec![0.0]),
             ..config(1, 4)
         };
-        let mut p = Projector::new(one_beam, "t").unwrap();
+        let mut p = projector(one_beam).unwrap();
         let cloud = RawCloud {
             points: vec![
                 point(0.0, 0.0, 9.0),
@@ -350,7 +355,7 @@ mod tests {
 
     #[test]
     fn ring_order_is_detected_from_elevations() {
-        let mut p = Projector::new(config(2, 4), "t").unwrap();
+        let mut p = projector(config(2, 4)).unwrap();
         let cloud = RawCloud {
             points: vec![point(0.0, -5.0, 5.0), point(0.0, 5.0, 5.0)],
             ring: Some(vec![0, 1]), // ring 0 is the lower beam: Velodyne order
@@ -370,12 +375,12 @@ mod tests {
     #[test]
     fn beam_tables_and_times() {
         let c = ProjectionConfig {
-            altitudes_deg: vec![-2.0, 2.0],
-            cols: 4,
+            altitudes_deg: Some(vec![-2.0, 2.0]),
+            cols: Some(4),
             frame_rate_hz: 10.0,
             ..ProjectionConfig::default()
         };
-        let mut p = Projector::new(c, "t").unwrap();
+        let mut p = projector(c).unwrap();
         assert_eq!(p.beams().altitude_deg, vec![2.0, -2.0]);
         let cloud = RawCloud {
             timestamp: 1.0,
@@ -386,9 +391,9 @@ mod tests {
         assert!(f.valid[4]);
         assert!((f.column_times[2] - 1.05).abs() < 1e-12);
         let bad = ProjectionConfig {
-            fov_up_deg: -30.0,
+            fov_up_deg: Some(-30.0),
             ..ProjectionConfig::default()
         };
-        assert!(Projector::new(bad, "t").unwrap_err().contains("fov_up_deg"));
+        assert!(projector(bad).unwrap_err().contains("fov_up_deg"));
     }
 }

@@ -5,26 +5,27 @@ use std::sync::Arc;
 
 use keylo_core::{BeamGeometry, LidarFrame};
 
-use crate::cloud::{organised, ProjectionConfig, Projector, RawCloud, VerticalAngleCorrection};
+use crate::cloud::{
+    organised, Grid, ProjectionConfig, Projector, RawCloud, Sensor, VerticalAngleCorrection,
+};
 
 /// Turns the clouds of one sequence into frames.
 #[derive(Debug, Clone)]
 pub struct Framer {
-    config: ProjectionConfig,
-    model: String,
+    grid: Grid,
     projector: Projector,
     /// Beams of organised clouds, per grid shape seen last.
     organised: Option<((usize, usize), Arc<BeamGeometry>)>,
 }
 
 impl Framer {
-    /// A framer for `config` (validated); `model` names the sensor in the frames' beams.
-    pub fn new(config: ProjectionConfig, model: &str) -> Result<Self, String> {
-        let projector = Projector::new(config.clone(), model)?;
+    /// A framer for `config` (validated) in a source whose `auto` sensor is
+    /// `source_default`.
+    pub fn new(config: &ProjectionConfig, source_default: Sensor) -> Result<Self, String> {
+        let grid = config.resolve(source_default)?;
         Ok(Self {
-            config,
-            model: model.to_string(),
-            projector,
+            projector: Projector::new(grid.clone()),
+            grid,
             organised: None,
         })
     }
@@ -41,7 +42,7 @@ impl Framer {
         match cloud.grid {
             Some((rows, cols)) => {
                 cloud.check()?;
-                let beams = self.organised_beams(rows, cols)?;
+                let beams = self.organised_beams(rows, cols);
                 Ok(organised::to_frame(cloud, rows, cols, index, beams))
             }
             None => self.projector.project(cloud, index),
@@ -49,24 +50,34 @@ impl Framer {
     }
 
     /// Beams of a `rows × cols` organised grid: the projection's beam table when it has
-    /// `rows` entries, else `rows` beams spread evenly over its field of view.
-    fn organised_beams(&mut self, rows: usize, cols: usize) -> Result<Arc<BeamGeometry>, String> {
+    /// `rows` entries, else `rows` beams spread evenly over its vertical field of view.
+    fn organised_beams(&mut self, rows: usize, cols: usize) -> Arc<BeamGeometry> {
         if let Some((shape, beams)) = &self.organised {
             if *shape == (rows, cols) {
-                return Ok(Arc::clone(beams));
+                return Arc::clone(beams);
             }
         }
-        let mut config = ProjectionConfig {
-            rows,
-            cols,
-            ..self.config.clone()
+        let table = &self.grid.altitudes_deg;
+        let altitudes = if table.len() == rows {
+            table.clone()
+        } else {
+            let (up, down) = (
+                table.first().copied().unwrap_or(0.0),
+                table.last().copied().unwrap_or(0.0),
+            );
+            let step = if rows > 1 { (up - down) / (rows - 1) as f64 } else { 0.0 };
+            (0..rows).map(|r| up - r as f64 * step).collect()
         };
-        if config.altitudes_deg.len() != rows {
-            config.altitudes_deg.clear();
-        }
-        let beams = Arc::clone(Projector::new(config, &self.model)?.beams());
+        let beams = Arc::new(BeamGeometry {
+            model: self.grid.model.clone(),
+            azimuth_deg: vec![0.0; rows],
+            altitude_deg: altitudes,
+            origin_to_beam_mm: 0.0,
+            columns_per_frame: cols,
+            frame_rate_hz: self.grid.frame_rate_hz,
+        });
         self.organised = Some(((rows, cols), Arc::clone(&beams)));
-        Ok(beams)
+        beams
     }
 }
 
@@ -76,7 +87,7 @@ mod tests {
 
     #[test]
     fn organised_clouds_keep_their_grid_and_others_are_projected() {
-        let mut f = Framer::new(ProjectionConfig::default(), "t").unwrap();
+        let mut f = Framer::new(&ProjectionConfig::default(), Sensor::Generic).unwrap();
         let cloud = RawCloud {
             points: vec![[1.0, 0.0, 0.0]; 6],
             grid: Some((2, 3)),

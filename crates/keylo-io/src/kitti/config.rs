@@ -30,8 +30,8 @@ pub struct KittiSourceConfig {
     /// undo a bias of KITTI's calibration. 0: the points as the files hold them (KISS-ICP's
     /// generic loader for a folder of `.bin` files).
     pub vertical_angle_correction_deg: f64,
-    /// `[source.projection]`: how scans become images. The defaults suit KITTI's HDL-64E
-    /// (64 × 1024, +3° to −25°).
+    /// `[source.projection]`: how scans become images. `sensor = "auto"` is KITTI's HDL-64E
+    /// (64 × 2048 over +3°..−25°).
     pub projection: ProjectionConfig,
 }
 

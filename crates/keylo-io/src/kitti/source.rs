@@ -8,7 +8,7 @@ use keylo_core::{BuildContext, CoreError, ImageSource, LidarFrame, SourceInfo, T
 use super::config::KittiSourceConfig;
 use super::ground_truth::lidar_ground_truth;
 use super::side_files::{read_calib_tr, read_times};
-use crate::cloud::{RawCloud, VerticalAngleCorrection};
+use crate::cloud::{RawCloud, Sensor, VerticalAngleCorrection};
 use crate::folder::{has_extension, index_stamps, list_files, FileSequence, Framer};
 use crate::kitti_bin::read_kitti_bin;
 use crate::point_files::check_frame_rate;
@@ -50,7 +50,7 @@ impl KittiSource {
                  (KISS-ICP's KITTI loader: 0.205)"
             )));
         }
-        let framer = Framer::new(config.projection.clone(), "HDL-64E")
+        let framer = Framer::new(&config.projection, Sensor::Hdl64e)
             .map_err(key)?
             .with_correction(VerticalAngleCorrection::new(correction));
         let layout = layout(&ctx.resolve_path(&config.path))?;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use keylo_core::{BuildContext, CoreError, ImageSource, LidarFrame, SourceInfo};
 
 use super::config::{check_frame_rate, PointFilesConfig};
-use crate::cloud::RawCloud;
+use crate::cloud::{RawCloud, Sensor};
 use crate::folder::fields::{FieldInfo, FieldMap, FieldOptions};
 use crate::folder::{frame_stamps, has_extension, has_files, list_files, FileSequence, Framer};
 use crate::IoError;
@@ -87,7 +87,7 @@ impl PointFilesSource {
         }
         check_frame_rate(config.frame_rate_hz).map_err(key)?;
         let selection = config.selection().map_err(key)?;
-        let framer = Framer::new(config.projection.clone(), ext).map_err(key)?;
+        let framer = Framer::new(&config.projection, Sensor::Generic).map_err(key)?;
         let path = ctx.resolve_path(&config.path);
         let mut files = point_files(&path, ext)?;
         let (stamps, named) = frame_stamps(&mut files, config.frame_rate_hz);

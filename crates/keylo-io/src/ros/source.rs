@@ -17,7 +17,7 @@ use super::pointcloud2::to_raw_cloud;
 use super::sync::{ImageQueue, Sync, SyncError};
 use super::topics::{cloud_topic, topics, typed_topic, Topic, IMAGE, STRING};
 use super::wire::Encoding;
-use crate::cloud::{organised, Projector, RawCloud};
+use crate::cloud::{organised, Projector, RawCloud, Sensor};
 use crate::ouster::OusterMetadata;
 use crate::select::FrameSelection;
 use crate::IoError;
@@ -84,8 +84,7 @@ impl BagSource {
             ),
             None => None,
         };
-        let model = format!("{} {}", format.kind(), cloud.name);
-        let projector = Projector::new(config.projection.clone(), &model)
+        let projector = Projector::from_config(&config.projection, Sensor::Generic)
             .map_err(|e| err(format!("source.{e}")))?;
         let mut ids = cloud.ids.clone();
         ids.extend(queues.iter().flat_map(|q| q.ids.iter().copied()));

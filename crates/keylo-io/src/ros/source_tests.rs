@@ -192,7 +192,7 @@ fn bad_metadata_and_selection_errors() {
     );
     let e = open(&path, |c| {
         c.metadata_topic.clear();
-        c.projection.cols = 0;
+        c.projection.cols = Some(0);
     })
     .err()
     .unwrap();
