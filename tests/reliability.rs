@@ -86,7 +86,14 @@ fn a_cloud_in_millimetres_is_refused_with_a_question_about_units() {
     for p in f.iter_mut().flat_map(|fr| fr.points.iter_mut()) {
         *p = (p.coords * 1000.0).into();
     }
-    for extra in ["", "[registrar]\nkind = 'ndt'\n"] {
+    // KISS-ICP's default (`empty_frame = "predict"`, upstream's behaviour) predicts such a
+    // frame and warns with the same question; `error`, and NDT, refuse it.
+    let predicted = run(&mut odometry(""), &f);
+    assert_eq!(predicted[1].as_ref().map(|r| r.registered_points).ok(), Some(0));
+    for extra in [
+        "[registrar]\nempty_frame = 'error'\n",
+        "[registrar]\nkind = 'ndt'\n",
+    ] {
         let msg = stage_message(&run(&mut odometry(extra), &f)[0]);
         assert!(
             msg.contains("frame 0") && msg.contains("are the coordinates in metres?"),
@@ -106,9 +113,12 @@ fn huge_coordinates_are_cropped_or_refused_never_a_panic() {
         .iter_mut()
         .step_by(7)
         .for_each(|p| p.x = f32::MAX);
-    let results = run(&mut odometry(""), &all);
+    let results = run(&mut odometry("[registrar]\nempty_frame = 'error'\n"), &all);
     assert!(results[0].is_ok());
     assert!(stage_message(&results[1]).contains("no point within"));
+    // By default the frame with nothing in range is predicted (upstream's behaviour).
+    let predicted = run(&mut odometry(""), &all);
+    assert_eq!(predicted[1].as_ref().map(|r| r.registered_points).ok(), Some(0));
     // Some points out at f32::MAX: they are cropped, the rest registers.
     assert!(results[2].is_ok(), "{:?}", results[2].as_ref().err());
 }

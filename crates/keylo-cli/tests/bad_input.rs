@@ -123,8 +123,13 @@ fn edit_frame(dir: &std::path::Path, i: usize, edit: impl FnOnce(&mut keylo::Lid
     std::fs::write(&path, codec::encode(&frame)).unwrap();
 }
 
+fn pose_lines(out: &std::path::Path) -> usize {
+    let tum = std::fs::read_to_string(out.join("trajectory.tum")).unwrap();
+    tum.lines().filter(|l| !l.starts_with('#')).count()
+}
+
 #[test]
-fn empty_and_all_nan_frames_stop_the_run_and_keep_the_trajectory() {
+fn empty_and_all_nan_frames_are_predicted_or_stop_the_run() {
     let tmp = tempfile::tempdir().unwrap();
     let data = tmp.path().join("seq");
     small_sim(&data, 6);
@@ -139,13 +144,27 @@ fn empty_and_all_nan_frames_stop_the_run_and_keep_the_trajectory() {
         data.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-        "-q",
     ];
+    // Default (`registrar.empty_frame = "predict"`, upstream KISS-ICP's behaviour): the two
+    // frames get the constant-velocity prediction, each with a warning, and are counted.
     let o = keylo(&args, tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    for frame in ["frame 3", "frame 4"] {
+        assert!(stderr(&o).contains(frame), "{}", stderr(&o));
+    }
+    assert!(stderr(&o).contains("constant-velocity"), "{}", stderr(&o));
+    assert_eq!(pose_lines(&out), 6);
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"frames_predicted\": 2"), "{summary}");
+    no_panic(&o);
+
+    // `empty_frame = "error"`: the run stops at frame 3 and keeps the frames before it.
+    let mut stop = args.to_vec();
+    stop.extend(["-q", "--set", "registrar.empty_frame=error"]);
+    let o = keylo(&stop, tmp.path());
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stderr(&o).contains("frame 3"), "{}", stderr(&o));
-    let tum = std::fs::read_to_string(out.join("trajectory.tum")).unwrap();
-    assert_eq!(tum.lines().filter(|l| !l.starts_with('#')).count(), 3);
+    assert_eq!(pose_lines(&out), 3);
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(
         summary.contains("\"failed\"") && summary.contains("no valid finite point"),
@@ -153,12 +172,79 @@ fn empty_and_all_nan_frames_stop_the_run_and_keep_the_trajectory() {
     );
     no_panic(&o);
 
-    let mut skip = args.to_vec();
+    let mut skip = stop.clone();
     skip.extend(["--set", "output.on_bad_frame=skip"]);
     let o = keylo(&skip, tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));
-    let tum = std::fs::read_to_string(out.join("trajectory.tum")).unwrap();
-    assert_eq!(tum.lines().filter(|l| !l.starts_with('#')).count(), 4);
+    assert_eq!(pose_lines(&out), 4);
+}
+
+/// KITTI-style scans (`keylo sim --format kitti-bin`) with scan 2 replaced by `bytes`.
+fn kitti_with_scan_2(dir: &std::path::Path, bytes: &[u8]) -> std::path::PathBuf {
+    let data = dir.join("bin");
+    let o = keylo_line(
+        &format!(
+            "sim -q --scene lab --frames 5 --format kitti-bin --out {} \
+             --set sensor=os1-64 --set columns=512",
+            data.display()
+        ),
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let velodyne = data.join("velodyne");
+    let scan = std::fs::read_dir(&velodyne)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "bin"))
+        .min_by_key(|p| p.file_name().map(|n| n.to_os_string()))
+        .unwrap();
+    let third = scan.with_file_name(format!("{:06}.bin", 2));
+    assert!(third.is_file(), "{}", third.display());
+    std::fs::write(&third, bytes).unwrap();
+    velodyne
+}
+
+#[test]
+fn bad_kitti_scans_name_the_file_and_frame() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let run = |data: &std::path::Path, extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            "--data",
+            data.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        keylo(&args, tmp.path())
+    };
+    // All-zero and NaN/inf points: nothing to register, so the scan is predicted (warned,
+    // naming the file) or, with `empty_frame = "error"`, stops the run naming file and frame.
+    let mut rows: Vec<u8> = Vec::new();
+    for v in [[0.0f32; 4], [f32::NAN, 1.0, 1.0, 0.0], [f32::INFINITY, 0.0, 0.0, 0.0]] {
+        rows.extend(v.iter().flat_map(|x| x.to_le_bytes()));
+    }
+    for (case, bytes) in [("zeros and nan", rows), ("empty", Vec::new())] {
+        let dir = tempfile::tempdir().unwrap();
+        let data = kitti_with_scan_2(dir.path(), &bytes);
+        let o = run(&data, &[]);
+        assert!(o.status.success(), "{case}: {}", stderr(&o));
+        assert!(stderr(&o).contains("frame 2 ("), "{case}: {}", stderr(&o));
+        assert!(stderr(&o).contains("000002.bin"), "{case}: {}", stderr(&o));
+        assert_eq!(pose_lines(&out), 5, "{case}");
+        let o = run(&data, &["-q", "--set", "registrar.empty_frame=error"]);
+        expect_failure(&o, 3, "frame 2");
+        expect_failure(&o, 3, "000002.bin");
+        assert_eq!(pose_lines(&out), 2, "{case}");
+    }
+    // A file whose size is not a multiple of 16 bytes: the run stops there.
+    let dir = tempfile::tempdir().unwrap();
+    let data = kitti_with_scan_2(dir.path(), &[0u8; 18]);
+    let o = run(&data, &["-q"]);
+    expect_failure(&o, 3, "000002.bin");
+    expect_failure(&o, 3, "not a multiple of 16");
+    assert_eq!(pose_lines(&out), 2);
 }
 
 #[test]
