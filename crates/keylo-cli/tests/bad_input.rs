@@ -341,3 +341,34 @@ fn ground_truth_and_data_problems_are_found_before_running() {
     );
     expect_failure(&o, 2, "no time stamps");
 }
+
+#[test]
+fn a_pcd_with_fewer_points_than_its_header_says_stops_at_its_frame() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("pcd");
+    std::fs::create_dir_all(&data).unwrap();
+    let header = "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n\
+                  COUNT 1 1 1\nWIDTH 5\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 5\nDATA ascii\n";
+    let rows = ["4 5 6", "7 -8 9", "-10 1 1", "5 5 1", "-3 -4 2"];
+    for i in 0..3 {
+        let n = if i == 1 { 3 } else { 5 };
+        let body: String = rows[..n].iter().map(|r| format!("{r}\n")).collect();
+        std::fs::write(data.join(format!("{i}.pcd")), format!("{header}{body}")).unwrap();
+    }
+    let out = tmp.path().join("out");
+    let o = keylo(
+        &[
+            "run",
+            "--data",
+            data.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "-q",
+        ],
+        tmp.path(),
+    );
+    expect_failure(&o, 3, "frame 1");
+    expect_failure(&o, 3, "1.pcd");
+    expect_failure(&o, 3, "of the 5 in POINTS");
+    assert_eq!(pose_lines(&out), 1);
+}
