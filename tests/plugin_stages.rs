@@ -1,7 +1,8 @@
 //! All four plugin stages through the C ABI: a Rust plugin (exported into this test binary
 //! with `export_plugin!`) wraps keylo's own FAST detector, BRIEF descriptor, matched
-//! keypoint-neighbourhood downsampler and KISS-ICP; images, keypoints, descriptors, frames,
-//! clouds and poses cross the ABI both ways, and the trajectory is the built-in one exactly.
+//! keypoint-neighbourhood downsampler and KISS-ICP; images, keypoints, descriptors, frames
+//! (with every scan point of an unorganised source, ABI version 2), clouds and poses cross
+//! the ABI both ways, and the trajectory is the built-in one exactly.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -136,9 +137,9 @@ keypoints = "matched"
 kind = "kiss-icp"
 "#;
 
-/// `CONFIG` with every stage's kind moved to `inner` and `kind = "plugin:wrap"`.
-fn wrapped() -> RawConfig {
-    let mut raw = RawConfig::parse("wrapped", CONFIG).unwrap();
+/// `text` with every stage's kind moved to `inner` and `kind = "plugin:wrap"`.
+fn wrapped(text: &str) -> RawConfig {
+    let mut raw = RawConfig::parse("wrapped", text).unwrap();
     for section in ["detector", "descriptor", "downsampler", "registrar"] {
         let t = raw.table[section].as_table_mut().unwrap();
         let kind = t.remove("kind").unwrap();
@@ -173,7 +174,7 @@ fn every_stage_crosses_the_abi_unchanged() {
     register_plugin(&mut registry, &plugin);
 
     let builtin = run(&RawConfig::parse("built-in", CONFIG).unwrap(), &registry);
-    let via_abi = run(&wrapped(), &registry);
+    let via_abi = run(&wrapped(CONFIG), &registry);
     assert_eq!(builtin.len(), 4);
     assert!(
         builtin[3].1.translation.vector.norm() > 0.01,
@@ -188,4 +189,66 @@ fn every_stage_crosses_the_abi_unchanged() {
             "{p_b} vs {p_p}"
         );
     }
+}
+
+/// `CONFIG` reading `dir` (KITTI `.bin` files) instead of the simulator: unorganised frames,
+/// on a grid coarse enough that many pixels hold several points.
+fn on_bins(dir: &Path) -> String {
+    let source = format!(
+        "[source]\nkind = \"kitti\"\npath = {:?}\n\n[source.projection]\nrows = 32\ncols = 256\n\n",
+        dir.to_str().unwrap()
+    );
+    let rest = &CONFIG[CONFIG.find("[image]").unwrap()..];
+    source + &rest.replace("width = 512\nheight = 64\n", "")
+}
+
+#[test]
+fn every_point_of_an_unorganised_scan_crosses_the_abi() {
+    use keylo::sim::{SceneKind, SensorKind, SimConfig, Simulator};
+    let sim = Simulator::new(&SimConfig {
+        scene: SceneKind::Lab,
+        frames: 4,
+        sensor: SensorKind::Os1_64,
+        columns: 512,
+        ..SimConfig::default()
+    })
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for k in 0..4 {
+        let path = dir.path().join(format!("{k:06}.bin"));
+        keylo::io::kitti_bin::write_kitti_bin(&path, &sim.frame(k)).unwrap();
+    }
+    let mut registry = keylo::registry();
+    // SAFETY: the table comes from this binary's own `keylo_plugin_entry`.
+    let plugin = unsafe { Plugin::from_info(keylo_plugin_entry(), Path::new("(this test)")) }
+        .map(Arc::new)
+        .unwrap();
+    register_plugin(&mut registry, &plugin);
+
+    let text = on_bins(dir.path());
+    let builtin = run(&RawConfig::parse("built-in", &text).unwrap(), &registry);
+    let via_abi = run(&wrapped(&text), &registry);
+    assert_eq!(builtin.len(), 4);
+    for ((n_b, p_b), (n_p, p_p)) in builtin.iter().zip(&via_abi) {
+        assert_eq!(n_b, n_p, "cloud sizes");
+        let d = (p_b.translation.vector - p_p.translation.vector).norm();
+        assert!(
+            d < 1e-9 && p_b.rotation.angle_to(&p_p.rotation) < 1e-9,
+            "{p_b} vs {p_p}"
+        );
+    }
+    // The selected pixels hold more points than the one each shows: a plugin that saw only
+    // the grids would have registered these smaller clouds.
+    let nearest = text.replace(
+        "keypoints = \"matched\"",
+        "keypoints = \"matched\"\npixel_points = \"nearest\"",
+    );
+    let nearest = run(&RawConfig::parse("nearest", &nearest).unwrap(), &registry);
+    let total = |r: &[(usize, keylo::Pose)]| r.iter().map(|(n, _)| n).sum::<usize>();
+    assert!(
+        total(&via_abi) > total(&nearest),
+        "{} scan points vs {} pixels",
+        total(&via_abi),
+        total(&nearest)
+    );
 }

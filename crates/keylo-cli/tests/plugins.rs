@@ -38,6 +38,13 @@ fn compile_plugin(source: &Path, out: &Path, defines: &[&str]) {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
+/// The test plugin source `tests/fixtures/plugins/NAME`.
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/plugins")
+        .join(name)
+}
+
 /// A temp folder with `plugins/libc-peaks.so` and the faulty test plugins, and `data/`, a
 /// five-frame simulated sequence.
 struct Setup {
@@ -45,16 +52,22 @@ struct Setup {
 }
 
 impl Setup {
-    fn new() -> Self {
+    /// A temp folder with an empty `plugins/`.
+    fn empty() -> Self {
         let dir = tempfile::tempdir().unwrap();
-        let plugins = dir.path().join("plugins");
-        std::fs::create_dir_all(&plugins).unwrap();
+        std::fs::create_dir_all(dir.path().join("plugins")).unwrap();
+        Self { dir }
+    }
+
+    fn new() -> Self {
+        let s = Self::empty();
+        let plugins = s.plugins();
         compile_plugin(
             &root().join("plugins/c-peaks/peaks.c"),
             &plugins.join("libc-peaks.so"),
             &[],
         );
-        let faulty = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/plugins/faulty.c");
+        let faulty = fixture("faulty.c");
         for (name, flag) in [
             ("bad-abi", "ABI=999"),
             ("no-entry", "NO_ENTRY"),
@@ -68,8 +81,8 @@ impl Setup {
                 &[&define, flag],
             );
         }
-        small_sim(&dir.path().join("data"), 5);
-        Self { dir }
+        small_sim(&s.dir.path().join("data"), 5);
+        s
     }
 
     fn plugins(&self) -> PathBuf {
@@ -182,7 +195,7 @@ fn plugins_list_and_check_show_name_version_kinds_path_abi() {
         .find(|l| l.starts_with("plugin:c-peaks "))
         .unwrap_or_else(|| panic!("{text}"));
     assert!(
-        line.contains("0.1.0") && line.contains(" 1 ") && line.contains("detector"),
+        line.contains("0.1.0") && line.contains(" 2 ") && line.contains("detector"),
         "{line}"
     );
     assert!(line.contains("libc-peaks.so"), "{line}");
@@ -206,7 +219,7 @@ fn abi_version_mismatch_is_refused_with_both_versions() {
     let s = Setup::new();
     let o = s.run(&["detector.kind=plugin:bad-abi"]);
     expect_failure(&o, 2, "plugin ABI version 999 is not supported");
-    expect_failure(&o, 2, "supports ABI version 1");
+    expect_failure(&o, 2, "supports ABI versions 1, 2");
     let file = s.plugins().join("libbad-abi.so");
     let o = s.keylo(&["plugins", "check", file.to_str().unwrap()]);
     expect_failure(&o, 2, "ABI version 999");
@@ -271,4 +284,92 @@ fn bad_plugin_parameters_are_reported_by_the_plugin() {
     let o = s.run(&["detector.cell=1"]);
     expect_failure(&o, 2, "plugin `c-peaks`");
     expect_failure(&o, 2, "configure configuration rejected");
+}
+
+/// `plugins/` with the downsampler fixtures `v1-grid` (built against the frozen version-1
+/// header) and `scan-all` (version 2), and `bins/`: three simulated frames as KITTI `.bin`
+/// files, an unorganised source whose frames carry every point of the file.
+fn scan_setup() -> Setup {
+    let s = Setup::empty();
+    for (name, source) in [("v1-grid", "v1_downsampler.c"), ("scan-all", "scan_all.c")] {
+        let define = format!("PLUGIN_NAME=\"{name}\"");
+        let lib = s.plugins().join(format!("lib{name}.so"));
+        compile_plugin(&fixture(source), &lib, &[&define]);
+    }
+    let sim =
+        "sim --frames 3 --format kitti-bin --out bins --set sensor=os1-64 --set columns=512 -q";
+    let o = s.keylo(&sim.split_whitespace().collect::<Vec<_>>());
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::write(
+        s.dir.path().join("scan.toml"),
+        "[downsampler]\nkind = \"passthrough\"\n\n[registrar]\nkind = \"kiss-icp\"\n",
+    )
+    .unwrap();
+    s
+}
+
+impl Setup {
+    /// `keylo run scan.toml --data bins` with `downsampler.kind` and more `--set`s: the
+    /// summary's mean points per registered cloud.
+    fn mean_cloud_points(&self, downsampler: &str, sets: &[&str]) -> f64 {
+        let out = self.dir.path().join(format!("out-{downsampler}"));
+        let kind = format!("downsampler.kind={downsampler}");
+        let mut args = vec!["run", "scan.toml", "--data", "bins", "-q", "--set", &kind];
+        args.extend(sets.iter().flat_map(|s| ["--set", s]));
+        args.extend(["--out", out.to_str().unwrap()]);
+        let o = self.keylo(&args);
+        assert!(o.status.success(), "{downsampler}: {}", stderr(&o));
+        let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+        summary["mean_cloud_points"]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{summary}"))
+    }
+}
+
+#[test]
+fn a_plugin_built_against_abi_v1_still_loads_and_runs() {
+    let s = scan_setup();
+    let o = s.keylo(&["plugins", "list"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("plugin:v1-grid "))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(
+        line.contains(" 1 ") && line.contains("downsampler"),
+        "{line}"
+    );
+    // It reads the version-1 prefix of the frame: the grid, one point per valid pixel, the
+    // same cloud as the built-in downsampler keeping the nearest point of each pixel.
+    let v1 = s.mean_cloud_points("plugin:v1-grid", &[]);
+    let nearest = s.mean_cloud_points("passthrough", &["downsampler.pixel_points=nearest"]);
+    assert!(
+        v1 > 0.0 && v1 == nearest,
+        "v1 plugin {v1}, nearest {nearest}"
+    );
+}
+
+#[test]
+fn an_abi_v2_downsampler_sees_every_point_of_an_unorganised_scan() {
+    let s = scan_setup();
+    let bins = s.dir.path().join("bins/velodyne");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&bins)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 3);
+    let mut total = 0;
+    for f in &files {
+        let points = keylo::io::kitti_bin::read_kitti_bin(f).unwrap();
+        assert!(points.iter().flatten().all(|v| v.is_finite()));
+        total += points.len();
+    }
+    let all = s.mean_cloud_points("plugin:scan-all", &[]);
+    assert_eq!(all, total as f64 / 3.0, "every point of the files");
+    // More than the grid shows: pixels that hold several points give all of them.
+    let nearest = s.mean_cloud_points("passthrough", &["downsampler.pixel_points=nearest"]);
+    assert!(all > nearest, "scan {all}, grid {nearest}");
 }

@@ -7,8 +7,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-// The ABI version this header describes. keylo refuses a plugin of any other version.
-#define KEYLO_PLUGIN_ABI_VERSION 1
+// The ABI version this header describes. keylo loads plugins of this version and of every
+// earlier one (1 and 2), and refuses any other.
+#define KEYLO_PLUGIN_ABI_VERSION 2
 
 // Bytes of [`KeyloError::message`], terminating NUL included.
 #define KEYLO_ERROR_MESSAGE_LEN 512
@@ -42,6 +43,10 @@
 
 // [`KeyloImage::pixel_type`]: 8-bit unsigned samples.
 #define KEYLO_PIXEL_U8 0
+
+// [`KeyloScanPoints::pixel`]: the point lies outside the frame grid;
+// [`KeyloScanPoints::pixel_to_point`]: the pixel holds no point. (`UINT32_MAX`)
+#define KEYLO_SCAN_NONE 4294967295
 
 // [`KeyloDescriptors::element_type`]: binary descriptors, one byte per element (Hamming).
 #define KEYLO_DESCRIPTOR_U8 0
@@ -109,7 +114,35 @@ typedef struct KeyloDescriptors {
   const void *data;
 } KeyloDescriptors;
 
-// An organised frame: every grid is row-major `rows * cols`, pixel `(r, c)` at `r * cols + c`.
+// Every finite point of an unorganised scan in file order, with the frame pixel each falls
+// into (ABI version 2). A pixel may hold several points, or none; the frame's grids show the
+// nearest point of each pixel (`pixel_to_point`). Per-point arrays hold `len` values.
+typedef struct KeyloScanPoints {
+  // Number of points.
+  size_t len;
+  // xyz per point in the sensor frame, metres (`3 * len` values, all finite).
+  const double *xyz;
+  // Firing time of every point relative to the frame's `timestamp`, seconds, or NULL when
+  // the source knows no per-point time.
+  const double *times;
+  // Intensity of every point, or NULL when the file has none.
+  const float *intensity;
+  // Beam (ring) of every point, or NULL when the file has none.
+  const uint16_t *ring;
+  // Index of every point in its file or message (non-finite points are skipped, so the
+  // indices can jump).
+  const uint32_t *source_index;
+  // Row-major frame pixel of every point, or [`KEYLO_SCAN_NONE`] when the point lies
+  // outside the grid (beyond the vertical field of view, or at the origin).
+  const uint32_t *pixel;
+  // Per frame pixel (`rows * cols` values), the point the grids show: the nearest point of
+  // the pixel (the first in file order among equally near ones), or [`KEYLO_SCAN_NONE`].
+  const uint32_t *pixel_to_point;
+} KeyloScanPoints;
+
+// A frame: every grid is row-major `rows * cols`, pixel `(r, c)` at `r * cols + c`. An
+// organised sensor delivers one point per pixel; an unorganised scan also carries all its
+// points in `scan` (ABI version 2), the grids showing the nearest point of each pixel.
 typedef struct KeyloFrame {
   // Sequence number in the source.
   uint64_t index;
@@ -130,6 +163,10 @@ typedef struct KeyloFrame {
   const float *points;
   // Whether each pixel holds a return.
   const bool *valid;
+  // ABI version 2: every point of an unorganised scan (KITTI `.bin`, PLY, PCD, an
+  // unorganised `PointCloud2`), or NULL for an organised frame. A plugin of version 1 does
+  // not see this field; keylo always allocates it.
+  const struct KeyloScanPoints *scan;
 } KeyloFrame;
 
 // The keypoints (and descriptors, `rows` 0 when none) found in one image of a frame.

@@ -10,11 +10,20 @@
 //!   (keypoints, descriptors, clouds) belong to the plugin instance and must stay valid until
 //!   the next call on that instance or its destruction.
 //! - One instance is used by one thread at a time; different instances may run in parallel.
+//!
+//! Versions. A newer version adds structs, and appends fields only to the end of a struct
+//! keylo allocates and lends by pointer (never to an array element or a struct the plugin
+//! fills), so a plugin built against an older header reads a prefix of what it is given and
+//! keeps loading; [`KeyloPluginInfo::abi_version`] says which fields it knows of.
+//!
+//! - 1: the first version.
+//! - 2: [`KeyloFrame::scan`], every point of an unorganised scan ([`KeyloScanPoints`]).
 
 use std::ffi::{c_char, c_void};
 
-/// The ABI version this header describes. keylo refuses a plugin of any other version.
-pub const KEYLO_PLUGIN_ABI_VERSION: u32 = 1;
+/// The ABI version this header describes. keylo loads plugins of this version and of every
+/// earlier one (1 and 2), and refuses any other.
+pub const KEYLO_PLUGIN_ABI_VERSION: u32 = 2;
 
 /// Bytes of [`KeyloError::message`], terminating NUL included.
 pub const KEYLO_ERROR_MESSAGE_LEN: usize = 512;
@@ -41,6 +50,10 @@ pub const KEYLO_STAGE_REGISTRAR: u32 = 4;
 
 /// [`KeyloImage::pixel_type`]: 8-bit unsigned samples.
 pub const KEYLO_PIXEL_U8: u32 = 0;
+
+/// [`KeyloScanPoints::pixel`]: the point lies outside the frame grid;
+/// [`KeyloScanPoints::pixel_to_point`]: the pixel holds no point. (`UINT32_MAX`)
+pub const KEYLO_SCAN_NONE: u32 = 0xFFFF_FFFF;
 
 /// [`KeyloDescriptors::element_type`]: binary descriptors, one byte per element (Hamming).
 pub const KEYLO_DESCRIPTOR_U8: u32 = 0;
@@ -113,7 +126,9 @@ pub struct KeyloDescriptors {
     pub data: *const c_void,
 }
 
-/// An organised frame: every grid is row-major `rows * cols`, pixel `(r, c)` at `r * cols + c`.
+/// A frame: every grid is row-major `rows * cols`, pixel `(r, c)` at `r * cols + c`. An
+/// organised sensor delivers one point per pixel; an unorganised scan also carries all its
+/// points in `scan` (ABI version 2), the grids showing the nearest point of each pixel.
 #[repr(C)]
 pub struct KeyloFrame {
     /// Sequence number in the source.
@@ -135,6 +150,37 @@ pub struct KeyloFrame {
     pub points: *const f32,
     /// Whether each pixel holds a return.
     pub valid: *const bool,
+    /// ABI version 2: every point of an unorganised scan (KITTI `.bin`, PLY, PCD, an
+    /// unorganised `PointCloud2`), or NULL for an organised frame. A plugin of version 1 does
+    /// not see this field; keylo always allocates it.
+    pub scan: *const KeyloScanPoints,
+}
+
+/// Every finite point of an unorganised scan in file order, with the frame pixel each falls
+/// into (ABI version 2). A pixel may hold several points, or none; the frame's grids show the
+/// nearest point of each pixel (`pixel_to_point`). Per-point arrays hold `len` values.
+#[repr(C)]
+pub struct KeyloScanPoints {
+    /// Number of points.
+    pub len: usize,
+    /// xyz per point in the sensor frame, metres (`3 * len` values, all finite).
+    pub xyz: *const f64,
+    /// Firing time of every point relative to the frame's `timestamp`, seconds, or NULL when
+    /// the source knows no per-point time.
+    pub times: *const f64,
+    /// Intensity of every point, or NULL when the file has none.
+    pub intensity: *const f32,
+    /// Beam (ring) of every point, or NULL when the file has none.
+    pub ring: *const u16,
+    /// Index of every point in its file or message (non-finite points are skipped, so the
+    /// indices can jump).
+    pub source_index: *const u32,
+    /// Row-major frame pixel of every point, or [`KEYLO_SCAN_NONE`] when the point lies
+    /// outside the grid (beyond the vertical field of view, or at the origin).
+    pub pixel: *const u32,
+    /// Per frame pixel (`rows * cols` values), the point the grids show: the nearest point of
+    /// the pixel (the first in file order among equally near ones), or [`KEYLO_SCAN_NONE`].
+    pub pixel_to_point: *const u32,
 }
 
 /// The keypoints (and descriptors, `rows` 0 when none) found in one image of a frame.

@@ -21,11 +21,12 @@ pub enum PluginError {
     #[error("{path}: no symbol `{symbol}`: not a keylo plugin (a Rust plugin needs `keylo_plugin::export_plugin!`, a C plugin must define `{symbol}`)")]
     MissingEntry { path: PathBuf, symbol: String },
     /// The plugin was built against another ABI version.
-    #[error("{path}: plugin ABI version {found} is not supported: this keylo supports ABI version {supported}; rebuild the plugin against this keylo's keylo_plugin.h")]
+    #[error("{path}: plugin ABI version {found} is not supported: this keylo supports ABI versions {supported}; rebuild the plugin against this keylo's keylo_plugin.h")]
     AbiMismatch {
         path: PathBuf,
         found: u32,
-        supported: u32,
+        /// The accepted versions, joined by ", ".
+        supported: String,
     },
     /// The descriptor table is malformed.
     #[error("{path}: invalid plugin descriptor: {message}")]

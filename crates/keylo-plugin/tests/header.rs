@@ -34,6 +34,7 @@ fn generate() -> String {
                 "KeyloKeypoints",
                 "KeyloDescriptors",
                 "KeyloFrame",
+                "KeyloScanPoints",
                 "KeyloImageFeatures",
                 "KeyloFeatures",
                 "KeyloCloud",

@@ -201,7 +201,7 @@ impl Downsampler for Instance {
             .fns
             .downsample
             .ok_or_else(|| self.error("no downsample function"))?;
-        let view = super::views::frame_view(frame).map_err(|m| self.error(m))?;
+        let view = super::views::FrameView::new(frame).map_err(|m| self.error(m))?;
         let feats = super::views::FeaturesView::new(features).map_err(|m| self.error(m))?;
         let feats_abi = feats.abi();
         let mut out = KeyloCloud {
@@ -211,9 +211,10 @@ impl Downsampler for Instance {
             times: std::ptr::null(),
             intensities: std::ptr::null(),
         };
-        // SAFETY: valid views of `frame` and `features` and an output for the call.
+        // SAFETY: valid views of `frame` (with its scan) and `features` and an output for
+        // the call.
         self.call("downsample", |s, e| unsafe {
-            f(s, &view, &feats_abi, &mut out, e)
+            f(s, view.abi(), &feats_abi, &mut out, e)
         })?;
         // SAFETY: the plugin's buffers hold `len` points until its next call.
         let cloud = unsafe { convert::cloud_from_abi(&out) }.map_err(|m| self.error(m))?;

@@ -9,9 +9,15 @@ use crate::abi::*;
 use crate::convert::c_str;
 use crate::PluginError;
 
-/// The ABI versions this keylo accepts.
-pub const SUPPORTED_ABI: std::ops::RangeInclusive<u32> =
-    KEYLO_PLUGIN_ABI_VERSION..=KEYLO_PLUGIN_ABI_VERSION;
+/// The ABI versions this keylo accepts: every version up to its own (a newer version only
+/// extends what keylo lends, see [`crate::abi`]).
+pub const SUPPORTED_ABI: std::ops::RangeInclusive<u32> = 1..=KEYLO_PLUGIN_ABI_VERSION;
+
+/// The accepted ABI versions for an error message: `1, 2`.
+pub fn supported_abi_list() -> String {
+    let v: Vec<String> = SUPPORTED_ABI.map(|v| v.to_string()).collect();
+    v.join(", ")
+}
 
 /// The entry symbol's name.
 pub const ENTRY_SYMBOL: &str = "keylo_plugin_entry";
@@ -138,17 +144,17 @@ impl Plugin {
         if info.is_null() {
             return Err(invalid(format!("{ENTRY_SYMBOL}() returned NULL")));
         }
-        // Only the first field is read before the version is known to match.
+        // Only the first field is read before the version is known to be supported.
         // SAFETY: every ABI version starts with the `u32` version (caller's contract).
         let found = unsafe { info.cast::<u32>().read() };
         if !SUPPORTED_ABI.contains(&found) {
             return Err(PluginError::AbiMismatch {
                 path: path.to_path_buf(),
                 found,
-                supported: KEYLO_PLUGIN_ABI_VERSION,
+                supported: supported_abi_list(),
             });
         }
-        // SAFETY: the version matches, so the table is a `KeyloPluginInfo`.
+        // SAFETY: a supported version, and `KeyloPluginInfo` is the same in all of them.
         let info = unsafe { &*info };
         // SAFETY: the strings are NULL or NUL-terminated per the ABI.
         let name = unsafe { c_str(info.name, "name") }.map_err(invalid)?;

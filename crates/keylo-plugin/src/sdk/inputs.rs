@@ -3,7 +3,9 @@
 
 use std::sync::Arc;
 
-use keylo_core::{BeamGeometry, Channel, ChannelFeatures, FrameFeatures, Image, LidarFrame};
+use keylo_core::{
+    BeamGeometry, Channel, ChannelFeatures, FrameFeatures, Image, LidarFrame, ScanPoints,
+};
 use nalgebra::Point3;
 
 use crate::abi::*;
@@ -50,12 +52,14 @@ pub unsafe fn image_from_abi(image: &KeyloImage) -> Result<Image, String> {
     })
 }
 
-/// An ABI frame, copied. ABI version 1 carries no beam geometry: the frame's `beams` holds
-/// only the column count.
+/// An ABI frame, copied, with its scan points when it has some (ABI version 2). The ABI
+/// carries no beam geometry: the frame's `beams` holds only the column count.
 ///
 /// # Safety
-/// Every grid pointer of `f` must hold `rows * cols` values (`points` three times that,
-/// `column_times` `cols`); `pixel_times` may be NULL.
+/// `f` must be a frame of ABI version 2 or later (keylo lends one to every plugin built with
+/// this SDK). Every grid pointer of `f` must hold `rows * cols` values (`points` three times
+/// that, `column_times` `cols`); `pixel_times` may be NULL; `scan` must be NULL or as
+/// [`scan_from_abi`] requires.
 pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, String> {
     let (rows, cols) = (f.rows as usize, f.cols as usize);
     let n = rows
@@ -65,6 +69,8 @@ pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, String> {
     let grid = |p: *const f32, what: &str| unsafe { copy_slice(p, n, what) };
     // SAFETY: the caller guarantees the buffer holds the documented values.
     let xyz = unsafe { copy_slice(f.points, 3 * n, "frame points") }?;
+    // SAFETY: the caller guarantees a version-2 frame whose `scan` is NULL or valid.
+    let scan = unsafe { scan_from_abi(f.scan, n) }?;
     Ok(LidarFrame {
         index: f.index,
         timestamp: f.timestamp,
@@ -84,9 +90,51 @@ pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, String> {
             .collect(),
         // SAFETY: the caller guarantees the buffer holds the documented values.
         valid: unsafe { copy_slice(f.valid, n, "valid") }?,
-        beams: Arc::new(BeamGeometry::unknown("unknown (plugin ABI v1)", cols)),
-        scan: None,
+        beams: Arc::new(BeamGeometry::unknown("unknown (plugin ABI)", cols)),
+        scan: scan.map(Arc::new),
     })
+}
+
+/// The points of an unorganised scan over a grid of `pixels` pixels, copied and checked
+/// ([`ScanPoints::check`]: lengths, indices in range, finite points); `None` for NULL.
+///
+/// # Safety
+/// `scan` must be NULL or point to a [`KeyloScanPoints`] whose arrays hold what its fields
+/// say: `xyz` `3 * len` values, `source_index` and `pixel` `len`, `pixel_to_point` `pixels`;
+/// `times`, `intensity` and `ring` `len` or NULL.
+pub unsafe fn scan_from_abi(
+    scan: *const KeyloScanPoints,
+    pixels: usize,
+) -> Result<Option<ScanPoints>, String> {
+    if scan.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: non-NULL, and valid for the call per the caller.
+    let s = unsafe { &*scan };
+    let n = s.len;
+    if n.checked_mul(3 * std::mem::size_of::<f64>()).is_none() {
+        return Err(format!("scan: {n} points overflow"));
+    }
+    // SAFETY: `Point3<f64>` is `#[repr(C)]` over `[f64; 3]` and `xyz` holds `3 * len`
+    // doubles (caller's contract): `len` points.
+    let points = unsafe { copy_slice(s.xyz.cast::<Point3<f64>>(), n, "scan xyz") }?;
+    let scan = ScanPoints {
+        points,
+        // SAFETY: the caller guarantees `len` values or NULL.
+        times: unsafe { copy_optional(s.times, n) },
+        // SAFETY: as above.
+        intensity: unsafe { copy_optional(s.intensity, n) },
+        // SAFETY: as above.
+        ring: unsafe { copy_optional(s.ring, n) },
+        // SAFETY: the caller guarantees `len` values.
+        source_index: unsafe { copy_slice(s.source_index, n, "scan source_index") }?,
+        // SAFETY: as above.
+        pixel: unsafe { copy_slice(s.pixel, n, "scan pixel") }?,
+        // SAFETY: the caller guarantees `pixels` values.
+        pixel_to_point: unsafe { copy_slice(s.pixel_to_point, pixels, "scan pixel_to_point") }?,
+    };
+    scan.check(pixels)?;
+    Ok(Some(scan))
 }
 
 /// ABI frame features, copied.

@@ -20,7 +20,7 @@ use serde::de::DeserializeOwned;
 
 use crate::abi::*;
 
-pub use inputs::{features_from_abi, frame_from_abi, image_from_abi};
+pub use inputs::{features_from_abi, frame_from_abi, image_from_abi, scan_from_abi};
 pub use shims::{descriptor, detector, downsampler, registrar};
 
 /// How a plugin backend is made from its config table.
