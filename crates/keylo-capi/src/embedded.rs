@@ -32,8 +32,9 @@ impl Embedded {
         keylo::plugin::load_for_config(&mut registry, &raw)?;
         let config = registry.resolve(&raw)?;
         let odometry = Odometry::build(&config, &registry)?;
-        let projector = Projector::from_config(&projection, Sensor::Generic)
+        let mut projector = Projector::from_config(&projection, Sensor::Generic)
             .map_err(|m| CapiError::Argument(format!("[source.projection]: {m}")))?;
+        projector.set_grid_needed(odometry.needs_grid());
         let beams = projector.beams().clone();
         Ok(Self {
             odometry,

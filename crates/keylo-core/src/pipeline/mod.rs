@@ -140,6 +140,13 @@ impl Odometry {
         Ok(odometry)
     }
 
+    /// Whether any stage reads the image grid of a frame (images, pixel windows, keypoint
+    /// points); when none does, unorganised sources may skip building it
+    /// ([`ImageSource::set_grid_needed`]).
+    pub fn needs_grid(&self) -> bool {
+        self.image.is_some() || self.downsampler.needs_grid() || self.registrar.wants_keypoints()
+    }
+
     /// The cloud the downsampler gave the registrar for the last frame processed, in the
     /// sensor frame (not deskewed); `None` before the first frame.
     pub fn last_cloud(&self) -> Option<&crate::PointCloud> {
@@ -374,10 +381,10 @@ pub struct Pipeline {
 impl Pipeline {
     /// Builds every stage of a resolved config.
     pub fn build(config: &PipelineConfig, registry: &Registry) -> Result<Self, CoreError> {
-        Ok(Self {
-            source: build_source(config, registry)?,
-            odometry: Odometry::build(config, registry)?,
-        })
+        let mut source = build_source(config, registry)?;
+        let odometry = Odometry::build(config, registry)?;
+        source.set_grid_needed(odometry.needs_grid());
+        Ok(Self { source, odometry })
     }
 
     /// Reads and processes the next frame; `None` at the end of the source.

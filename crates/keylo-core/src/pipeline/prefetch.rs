@@ -85,6 +85,14 @@ impl ImageSource for Prefetched {
         self.with_source(|s| s.frame_origin(index))
     }
 
+    fn set_grid_needed(&mut self, needed: bool) {
+        // Frames already read ahead keep the grid they were read with.
+        self.source
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .set_grid_needed(needed);
+    }
+
     fn ground_truth(&self) -> Option<Trajectory> {
         self.with_source(|s| s.ground_truth())
     }

@@ -11,4 +11,11 @@ pub trait Downsampler: Send {
         frame: &LidarFrame,
         features: &FrameFeatures,
     ) -> Result<PointCloud, CoreError>;
+
+    /// Whether it reads the frame's image grid (pixels, windows, one point per pixel). By
+    /// default true; a downsampler of the whole scan's points (`passthrough`, `voxel`) says
+    /// false, so that an unorganised source need not project its points.
+    fn needs_grid(&self) -> bool {
+        true
+    }
 }

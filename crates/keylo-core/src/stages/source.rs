@@ -23,6 +23,12 @@ pub trait ImageSource: Send {
     fn details(&self) -> Vec<(String, String)> {
         Vec::new()
     }
+    /// Told by the pipeline whether any stage reads the frames' image grid. An unorganised
+    /// source may then skip projecting its points (the frame keeps every point in `scan` and
+    /// has an empty `0 × 0` grid); by default, and for organised sources, this does nothing.
+    fn set_grid_needed(&mut self, needed: bool) {
+        let _ = needed;
+    }
     /// Where frame `index` came from (its file), for messages about that frame; `None` when
     /// the source has no per-frame file (a pcap, a bag, the simulator).
     fn frame_origin(&self, index: u64) -> Option<String> {

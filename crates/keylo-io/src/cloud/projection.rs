@@ -25,6 +25,8 @@ pub struct Projector {
     beams: Arc<BeamGeometry>,
     top_first: Option<bool>,
     correction: Option<VerticalAngleCorrection>,
+    /// False when no stage reads the grid: frames then carry only their points.
+    grid_needed: bool,
 }
 
 impl Projector {
@@ -50,7 +52,15 @@ impl Projector {
             beams,
             top_first,
             correction: None,
+            grid_needed: true,
         }
+    }
+
+    /// Whether frames get their image grid; without it a frame is `0 × 0` and carries only
+    /// its points (every finite one, with times and intensities), which costs a fraction of
+    /// the projection.
+    pub fn set_grid_needed(&mut self, needed: bool) {
+        self.grid_needed = needed;
     }
 
     /// The projector of `config` for a source whose `auto` sensor is `source_default`.
@@ -89,6 +99,9 @@ impl Projector {
             if self.top_first.is_none() {
                 self.top_first = Some(ring_zero_is_top(cloud, rings));
             }
+        }
+        if !self.grid_needed {
+            return Ok(self.points_only(cloud, index));
         }
         let (rows, cols) = (self.grid.rows, self.grid.cols);
         // Pass 1, in parallel: each point's corrected coordinates, column and pixel (the
@@ -168,6 +181,56 @@ impl Projector {
         }
         f.scan = Some(Arc::new(scan));
         Ok(f)
+    }
+
+    /// The frame of `cloud` without an image grid: its finite points with their times,
+    /// intensities and rings, none of them in a pixel.
+    fn points_only(&self, cloud: &RawCloud, index: u64) -> LidarFrame {
+        let cols = self.grid.cols;
+        let period = (self.grid.frame_rate_hz > 0.0).then(|| 1.0 / self.grid.frame_rate_hz);
+        let n = cloud.len();
+        let mut scan = ScanPoints {
+            points: Vec::with_capacity(n),
+            source_index: Vec::with_capacity(n),
+            ..ScanPoints::default()
+        };
+        let mut times = (cloud.time.is_some() || period.is_some()).then(|| Vec::with_capacity(n));
+        let mut intensity = cloud.intensity.as_ref().map(|_| Vec::with_capacity(n));
+        let mut ring = cloud.ring.as_ref().map(|_| Vec::with_capacity(n));
+        for (i, p) in cloud.points.iter().enumerate() {
+            let file_time = cloud.time.as_ref().map(|t| t[i]);
+            let mut v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
+            if file_time.is_some_and(|t| !t.is_finite()) || !v.iter().all(|x| x.is_finite()) {
+                continue;
+            }
+            if let Some(c) = &self.correction {
+                v = c.apply(v);
+                if !v.iter().all(|x| x.is_finite()) {
+                    continue;
+                }
+            }
+            scan.points.push(Point3::from(v));
+            scan.source_index.push(i as u32);
+            if let Some(out) = times.as_mut() {
+                out.push(file_time.unwrap_or_else(|| {
+                    let col = azimuth_column(v[0], v[1], cols);
+                    period.unwrap_or(0.0) * col as f64 / cols as f64
+                }));
+            }
+            if let (Some(out), Some(src)) = (intensity.as_mut(), cloud.intensity.as_ref()) {
+                out.push(src[i]);
+            }
+            if let (Some(out), Some(src)) = (ring.as_mut(), cloud.ring.as_ref()) {
+                out.push(src[i]);
+            }
+        }
+        scan.pixel = vec![ScanPoints::NONE; scan.points.len()];
+        scan.times = times;
+        scan.intensity = intensity;
+        scan.ring = ring;
+        let mut f = LidarFrame::empty(index, cloud.timestamp, 0, 0, Arc::clone(&self.beams));
+        f.scan = Some(Arc::new(scan));
+        f
     }
 
     /// Where point `i` (`p`) of `cloud` goes: [`DROPPED`] for a point with a non-finite

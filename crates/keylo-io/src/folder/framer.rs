@@ -36,6 +36,11 @@ impl Framer {
         self
     }
 
+    /// Whether unorganised clouds get an image grid ([`Projector::set_grid_needed`]).
+    pub fn set_grid_needed(&mut self, needed: bool) {
+        self.projector.set_grid_needed(needed);
+    }
+
     /// The frame of `cloud` (organised when `cloud.grid` is set); the error says which field
     /// is inconsistent.
     pub fn frame(&mut self, cloud: &RawCloud, index: u64) -> Result<LidarFrame, String> {

@@ -150,6 +150,10 @@ impl ImageSource for PointFilesSource {
         }
     }
 
+    fn set_grid_needed(&mut self, needed: bool) {
+        self.framer.set_grid_needed(needed);
+    }
+
     fn frame_origin(&self, index: u64) -> Option<String> {
         self.files.path_of(index).map(|p| p.display().to_string())
     }

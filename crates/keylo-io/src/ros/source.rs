@@ -323,6 +323,10 @@ impl ImageSource for BagSource {
         }
     }
 
+    fn set_grid_needed(&mut self, needed: bool) {
+        self.projector.set_grid_needed(needed);
+    }
+
     /// What `keylo info` shows: the recording's time span and every topic with its type,
     /// encoding, count and (PointCloud2) layout, as [`super::bag_info`] reads them.
     fn details(&self) -> Vec<(String, String)> {

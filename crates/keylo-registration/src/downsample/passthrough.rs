@@ -33,4 +33,8 @@ impl Downsampler for Passthrough {
     ) -> Result<PointCloud, CoreError> {
         Ok(frame.cloud(self.mode))
     }
+
+    fn needs_grid(&self) -> bool {
+        self.mode == PixelPoints::Nearest
+    }
 }

@@ -70,6 +70,10 @@ impl Downsampler for VoxelDownsampler {
             VoxelKeep::Centroid => centroids(&full, self.config.voxel_size),
         })
     }
+
+    fn needs_grid(&self) -> bool {
+        false
+    }
 }
 
 fn centroids(cloud: &PointCloud, size: f64) -> PointCloud {
