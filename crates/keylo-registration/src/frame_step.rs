@@ -33,19 +33,34 @@ pub(crate) fn deskew_and_crop(
     cloud: &PointCloud,
     deskew: bool,
     last_delta: &Isometry3<f64>,
-    (min, max): (f64, f64),
+    range: (f64, f64),
 ) -> Vec<Point3<f64>> {
-    let mut points = cloud.points.clone();
-    if deskew {
-        if let Some(times) = &cloud.times {
-            deskew::deskew(&mut points, times, last_delta);
-        }
-    }
-    points.retain(|p| {
+    let mut points = Vec::new();
+    deskew_and_crop_into(cloud, deskew, last_delta, range, &mut points);
+    points
+}
+
+/// [`deskew_and_crop`] into `out` (cleared first), whose buffer is reused.
+pub(crate) fn deskew_and_crop_into(
+    cloud: &PointCloud,
+    deskew: bool,
+    last_delta: &Isometry3<f64>,
+    (min, max): (f64, f64),
+    out: &mut Vec<Point3<f64>>,
+) {
+    out.clear();
+    let in_range = |p: &Point3<f64>| {
         let r = p.coords.norm();
         r > min && r < max
-    });
-    points
+    };
+    match (deskew, &cloud.times) {
+        (true, Some(times)) => {
+            out.extend_from_slice(&cloud.points);
+            deskew::deskew(out, times, last_delta);
+            out.retain(in_range);
+        }
+        _ => out.extend(cloud.points.iter().filter(|p| in_range(p))),
+    }
 }
 
 /// The error for a cloud with no point between `min` and `max` range: it gives the nearest

@@ -8,9 +8,9 @@ use keylo_core::{BuildContext, CoreError, ImageSource, LidarFrame, SourceInfo, T
 use super::config::KittiSourceConfig;
 use super::ground_truth::lidar_ground_truth;
 use super::side_files::{read_calib_tr, read_times};
-use crate::cloud::{RawCloud, Sensor, VerticalAngleCorrection};
+use crate::cloud::{Sensor, VerticalAngleCorrection};
 use crate::folder::{has_extension, index_stamps, list_files, FileSequence, Framer};
-use crate::kitti_bin::read_kitti_bin;
+use crate::kitti_bin::read_kitti_cloud;
 use crate::point_files::check_frame_rate;
 use crate::IoError;
 
@@ -209,13 +209,7 @@ impl ImageSource for KittiSource {
     fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>> {
         let entry = self.files.next_file()?;
         let path = entry.path;
-        let frame = read_kitti_bin(path).and_then(|rows| {
-            let cloud = RawCloud {
-                timestamp: entry.stamp,
-                points: rows.iter().map(|r| [r[0], r[1], r[2]]).collect(),
-                intensity: Some(rows.iter().map(|r| r[3]).collect()),
-                ..RawCloud::default()
-            };
+        let frame = read_kitti_cloud(path, entry.stamp).and_then(|cloud| {
             self.framer
                 .frame(&cloud, entry.index as u64)
                 .map_err(|m| IoError::format(path, m))

@@ -3,6 +3,7 @@
 //! neighbour. It is what point-to-plane ICP would minimise and what the geometry constrains.
 
 use nalgebra::{Isometry3, Matrix3, Matrix6, Point3, Vector3, Vector6};
+use rayon::prelude::*;
 
 use crate::kiss_icp::voxel_map::VoxelHashMap;
 
@@ -24,10 +25,14 @@ pub struct PlaneInformation {
     pub rms_range: f64,
 }
 
+/// Points per parallel work item of [`plane_information`]; partial sums are added in chunk
+/// order, so the result does not depend on the number of threads.
+const CHUNK: usize = 128;
+
 /// Information of (an even stride of at most `max_points` of) `source` (sensor frame) placed
 /// at `pose` against `map`, for points whose nearest map point is closer than
 /// `max_distance`. Rotations are about the sensor position, so the matrix does not depend on
-/// how far the sensor is from the world origin.
+/// how far the sensor is from the world origin. Runs in parallel (rayon).
 pub fn plane_information(
     source: &[Point3<f64>],
     map: &VoxelHashMap,
@@ -36,13 +41,20 @@ pub fn plane_information(
     max_points: usize,
 ) -> PlaneInformation {
     let radius = PLANE_RADIUS_VOXELS * map.voxel_size();
-    let mut near = Vec::new();
-    information_with_normals(source, pose, max_points, |world| {
-        let (q, _) = map.closest_neighbour_within(world, max_distance)?;
-        near.clear();
-        map.points_within(&q, radius, &mut near);
-        plane_normal(&near)
-    })
+    let picked: Vec<Point3<f64>> = source.iter().step_by(stride(source, max_points)).copied().collect();
+    let partials: Vec<Sums> = picked
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut near = Vec::new();
+            sums(chunk.iter(), pose, |world| {
+                let (q, _) = map.closest_neighbour_within(world, max_distance)?;
+                near.clear();
+                map.points_within(&q, radius, &mut near);
+                plane_normal(&near)
+            })
+        })
+        .collect();
+    partials.iter().fold(Sums::default(), Sums::add).finish()
 }
 
 /// The information of (an even stride of at most `max_points` of) `source` placed at `pose`,
@@ -52,13 +64,48 @@ pub fn information_with_normals(
     source: &[Point3<f64>],
     pose: &Isometry3<f64>,
     max_points: usize,
-    mut normal_at: impl FnMut(&Point3<f64>) -> Option<Vector3<f64>>,
+    normal_at: impl FnMut(&Point3<f64>) -> Option<Vector3<f64>>,
 ) -> PlaneInformation {
-    let stride = source.len().div_ceil(max_points.max(1)).max(1);
+    sums(source.iter().step_by(stride(source, max_points)), pose, normal_at).finish()
+}
+
+fn stride(source: &[Point3<f64>], max_points: usize) -> usize {
+    source.len().div_ceil(max_points.max(1)).max(1)
+}
+
+/// Running sums of the information.
+#[derive(Default, Clone, Copy)]
+struct Sums {
+    matrix: Matrix6<f64>,
+    residuals: usize,
+    range2: f64,
+}
+
+impl Sums {
+    fn add(mut self, other: &Sums) -> Sums {
+        self.matrix += other.matrix;
+        self.residuals += other.residuals;
+        self.range2 += other.range2;
+        self
+    }
+
+    fn finish(self) -> PlaneInformation {
+        PlaneInformation {
+            matrix: self.matrix,
+            residuals: self.residuals,
+            rms_range: (self.range2 / self.residuals.max(1) as f64).sqrt(),
+        }
+    }
+}
+
+fn sums<'a>(
+    points: impl Iterator<Item = &'a Point3<f64>>,
+    pose: &Isometry3<f64>,
+    mut normal_at: impl FnMut(&Point3<f64>) -> Option<Vector3<f64>>,
+) -> Sums {
     let centre = pose.translation.vector;
-    let mut matrix = Matrix6::zeros();
-    let (mut residuals, mut range2) = (0usize, 0.0);
-    for p in source.iter().step_by(stride) {
+    let mut s = Sums::default();
+    for p in points {
         let world = pose * p;
         let Some(n) = normal_at(&world) else {
             continue;
@@ -68,15 +115,11 @@ pub fn information_with_normals(
             let c = arm.cross(&n);
             Vector6::new(0.0, 0.0, 0.0, c.x, c.y, c.z)
         };
-        matrix += j * j.transpose();
-        residuals += 1;
-        range2 += arm.norm_squared();
+        s.matrix += j * j.transpose();
+        s.residuals += 1;
+        s.range2 += arm.norm_squared();
     }
-    PlaneInformation {
-        matrix,
-        residuals,
-        rms_range: (range2 / residuals.max(1) as f64).sqrt(),
-    }
+    s
 }
 
 /// Unit normal of a planar neighbourhood, `None` when too few points or not planar.

@@ -191,6 +191,8 @@ pub struct KissIcp {
     grid: voxel::UpstreamGrid,
     frame_downsample: Vec<Point3<f64>>,
     source: Vec<Point3<f64>>,
+    /// The deskewed, cropped scan (a buffer reused between frames).
+    preprocessed: Vec<Point3<f64>>,
 }
 
 impl KissIcp {
@@ -219,6 +221,7 @@ impl KissIcp {
             grid: voxel::UpstreamGrid::default(),
             frame_downsample: Vec::new(),
             source: Vec::new(),
+            preprocessed: Vec::new(),
         })
     }
 
@@ -232,10 +235,10 @@ impl KissIcp {
         self.last_pose
     }
 
-    /// Deskew and range filter, as upstream's `Preprocessor`.
-    fn preprocess(&self, cloud: &PointCloud) -> Vec<Point3<f64>> {
+    /// Deskew and range filter, as upstream's `Preprocessor`, into `out`.
+    fn preprocess(&self, cloud: &PointCloud, out: &mut Vec<Point3<f64>>) {
         let range = (self.config.min_range, self.config.max_range);
-        frame_step::deskew_and_crop(cloud, self.config.deskew, &self.last_delta, range)
+        frame_step::deskew_and_crop_into(cloud, self.config.deskew, &self.last_delta, range, out);
     }
 
     fn sigma(&self) -> f64 {
@@ -273,8 +276,10 @@ impl KissIcp {
         cloud: &PointCloud,
         allow_empty: bool,
     ) -> Result<Prepared, RegistrationError> {
-        let frame = self.preprocess(cloud);
+        let mut frame = std::mem::take(&mut self.preprocessed);
+        self.preprocess(cloud, &mut frame);
         if frame.is_empty() && !allow_empty {
+            self.preprocessed = frame;
             return Err(frame_step::nothing_in_range(
                 cloud,
                 (self.config.min_range, self.config.max_range),
@@ -290,6 +295,7 @@ impl KissIcp {
             .downsample_into(&frame, self.voxel_size * 0.5, &mut frame_downsample);
         self.grid
             .downsample_into(&frame_downsample, self.voxel_size * 1.5, &mut source);
+        self.preprocessed = frame;
         let sigma = self.sigma();
         let settings = IcpSettings {
             max_iterations: self.config.max_num_iterations,
