@@ -80,7 +80,9 @@ run_bin_case() {
   python3 "$ROOT/scripts/bench/kitti_pose_diff.py" "$d/keylo/trajectory.kitti" \
     "$d/upstream/kiss_icp_poses_kitti.txt" "${calib[@]}" > "$d/diff.json"
   if [ -n "$gt" ]; then
-    "$K" eval --json --est "$d/upstream/kiss_icp_poses_kitti.txt" --gt "$gt" > "$d/upstream_vs_gt.txt" 2>&1 || true
+    # Upstream's KITTI loader reports cam0 poses: compare them with the cam0 ground truth.
+    local up_gt="$gt"; [ -n "$cam0" ] && up_gt="${gt/_velo/_cam0}"
+    "$K" eval --json --est "$d/upstream/kiss_icp_poses_kitti.txt" --gt "$up_gt" > "$d/upstream_vs_gt.txt" 2>&1 || true
     "$K" eval --json --est "$d/keylo/trajectory.kitti" --gt "$gt" > "$d/keylo_vs_gt.txt" 2>&1 || true
   fi
   python3 - "$d" "$name" <<'PY'
