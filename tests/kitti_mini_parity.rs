@@ -33,7 +33,10 @@ fn lit(p: &Path) -> String {
 /// Runs the default raw pipeline (passthrough, KISS-ICP defaults) over a KITTI source with
 /// the extra `[source]` lines; returns every frame's result and the source's ground truth.
 fn run(path: &Path, source_extra: &str) -> (Vec<FrameResult>, Option<Trajectory>) {
-    let text = format!("[source]\nkind = \"kitti\"\npath = {}\n{source_extra}\n", lit(path));
+    let text = format!(
+        "[source]\nkind = \"kitti\"\npath = {}\n{source_extra}\n",
+        lit(path)
+    );
     let raw = RawConfig::parse("test", &text).unwrap();
     let registry = keylo::registry();
     let config = registry.resolve(&raw).unwrap();
@@ -161,7 +164,11 @@ fn unusual_layouts_keep_the_trajectory_as_upstream_does() {
     // pose is the constant-velocity prediction (upstream's behaviour) and the run goes on.
     for (name, replacement) in [("empty", vec![]), ("far", vec![[500.0, 0.0, 0.0, 1.0]])] {
         let dir = tmp.path().join(name);
-        rewrite(&src, &dir, |i, rows| if i == 4 { replacement.clone() } else { rows });
+        rewrite(
+            &src,
+            &dir,
+            |i, rows| if i == 4 { replacement.clone() } else { rows },
+        );
         let (results, _) = run(&dir, "");
         assert_eq!(results.len(), clean.len(), "{name}");
         assert_eq!(poses(&results)[..4], clean[..4]);

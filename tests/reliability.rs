@@ -89,7 +89,10 @@ fn a_cloud_in_millimetres_is_refused_with_a_question_about_units() {
     // KISS-ICP's default (`empty_frame = "predict"`, upstream's behaviour) predicts such a
     // frame and warns with the same question; `error`, and NDT, refuse it.
     let predicted = run(&mut odometry(""), &f);
-    assert_eq!(predicted[1].as_ref().map(|r| r.registered_points).ok(), Some(0));
+    assert_eq!(
+        predicted[1].as_ref().map(|r| r.registered_points).ok(),
+        Some(0)
+    );
     for extra in [
         "[registrar]\nempty_frame = 'error'\n",
         "[registrar]\nkind = 'ndt'\n",
@@ -118,7 +121,10 @@ fn huge_coordinates_are_cropped_or_refused_never_a_panic() {
     assert!(stage_message(&results[1]).contains("no point within"));
     // By default the frame with nothing in range is predicted (upstream's behaviour).
     let predicted = run(&mut odometry(""), &all);
-    assert_eq!(predicted[1].as_ref().map(|r| r.registered_points).ok(), Some(0));
+    assert_eq!(
+        predicted[1].as_ref().map(|r| r.registered_points).ok(),
+        Some(0)
+    );
     // Some points out at f32::MAX: they are cropped, the rest registers.
     assert!(results[2].is_ok(), "{:?}", results[2].as_ref().err());
 }

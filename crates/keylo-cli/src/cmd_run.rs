@@ -8,9 +8,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use keylo::config::{OnBadFrame, PipelineConfig};
-use keylo::{
-    CoreError, FrameResult, ImageSource, LidarFrame, Pipeline, Prefetched, Trajectory,
-};
+use keylo::{CoreError, FrameResult, ImageSource, LidarFrame, Pipeline, Prefetched, Trajectory};
 
 use crate::args::RunArgs;
 use crate::degeneracy_out::{self, DegeneracyRow};

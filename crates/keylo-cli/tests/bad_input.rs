@@ -222,7 +222,11 @@ fn bad_kitti_scans_name_the_file_and_frame() {
     // All-zero and NaN/inf points: nothing to register, so the scan is predicted (warned,
     // naming the file) or, with `empty_frame = "error"`, stops the run naming file and frame.
     let mut rows: Vec<u8> = Vec::new();
-    for v in [[0.0f32; 4], [f32::NAN, 1.0, 1.0, 0.0], [f32::INFINITY, 0.0, 0.0, 0.0]] {
+    for v in [
+        [0.0f32; 4],
+        [f32::NAN, 1.0, 1.0, 0.0],
+        [f32::INFINITY, 0.0, 0.0, 0.0],
+    ] {
         rows.extend(v.iter().flat_map(|x| x.to_le_bytes()));
     }
     for (case, bytes) in [("zeros and nan", rows), ("empty", Vec::new())] {

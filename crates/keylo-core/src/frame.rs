@@ -292,10 +292,7 @@ impl LidarFrame {
         scan: &ScanPoints,
         indices: impl Iterator<Item = usize> + Clone,
     ) -> PointCloud {
-        let points = indices
-            .clone()
-            .map(|i| scan.points[i])
-            .collect();
+        let points = indices.clone().map(|i| scan.points[i]).collect();
         PointCloud {
             timestamp: self.timestamp,
             points,

@@ -25,13 +25,13 @@ pub use degeneracy::Degeneracy;
 pub use error::{ConfigError, CoreError};
 pub use features::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
 pub use frame::{BeamGeometry, Channel, LidarFrame};
-pub use scan::{GridOccupancy, PixelPoints, ScanPoints};
 pub use image::Image;
 pub use keypoints3d::{FrameKeypoints, ImageKeypoints};
 pub use pipeline::{
     build_source, FrameResult, Odometry, PerImage, Pipeline, Prefetched, StageTimings,
 };
 pub use registry::{BuildContext, Registry};
+pub use scan::{GridOccupancy, PixelPoints, ScanPoints};
 pub use stages::{
     Descriptor, Detector, Downsampler, ImageBuilder, ImageSource, Registrar, Registration,
     SourceInfo,

@@ -80,7 +80,11 @@ impl ScanPoints {
         if self.pixel_to_point.iter().any(|p| outside(p, n)) {
             return Err(format!("scan.pixel_to_point has an entry >= {n} points"));
         }
-        if self.points.iter().any(|p| !p.coords.iter().all(|v| v.is_finite())) {
+        if self
+            .points
+            .iter()
+            .any(|p| !p.coords.iter().all(|v| v.is_finite()))
+        {
             return Err("scan.points holds a non-finite coordinate".into());
         }
         Ok(())

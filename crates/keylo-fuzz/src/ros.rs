@@ -84,7 +84,9 @@ pub fn ros_messages(data: &[u8]) {
     if let Some((rows, cols)) = raw.grid {
         let beams = Arc::new(BeamGeometry::unknown("fuzz", cols));
         crate::check_frame(&to_frame(&raw, rows, cols, 0, beams));
-    } else if let Ok(mut projector) = Projector::from_config(&ProjectionConfig::default(), Sensor::Generic) {
+    } else if let Ok(mut projector) =
+        Projector::from_config(&ProjectionConfig::default(), Sensor::Generic)
+    {
         if let Ok(frame) = projector.project(&raw, 0) {
             crate::check_frame(&frame);
         }

@@ -38,7 +38,11 @@ fn real_scans_stream_with_times_from_times_txt() {
     let first = src.next_frame().unwrap().unwrap();
     let scan = first.scan.as_ref().unwrap();
     assert_eq!(scan.len(), 124_668, "points of 00/000000.bin");
-    assert_eq!(first.to_cloud().len(), 124_668, "every point reaches the cloud");
+    assert_eq!(
+        first.to_cloud().len(),
+        124_668,
+        "every point reaches the cloud"
+    );
     assert_eq!((first.rows, first.cols, first.timestamp), (64, 2048, 0.0));
     let second = src.next_frame().unwrap().unwrap();
     assert_eq!((second.index, second.timestamp), (1, 0.1037359));
@@ -85,8 +89,16 @@ fn a_real_scan_projects_with_consistent_index_maps() {
     let mut src = build("kitti", &format!("path = {}", lit(&scan))).unwrap();
     let f = frames(src.as_mut()).unwrap().remove(0);
     let map = f.scan.as_ref().unwrap();
-    assert_eq!(map.len(), points.len(), "a real scan has only finite points");
-    assert!(map.source_index.iter().enumerate().all(|(i, &s)| s as usize == i));
+    assert_eq!(
+        map.len(),
+        points.len(),
+        "a real scan has only finite points"
+    );
+    assert!(map
+        .source_index
+        .iter()
+        .enumerate()
+        .all(|(i, &s)| s as usize == i));
     let mapped = map.pixel.iter().filter(|&&p| p != NONE).count();
     let kept = f.valid_count();
     let n = points.len() as f64;

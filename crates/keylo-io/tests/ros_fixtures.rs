@@ -171,7 +171,11 @@ fn unorganised_clouds_are_projected_by_ring() {
             let map = f.scan.as_ref().unwrap();
             let points = w["points"].as_u64().unwrap() as usize;
             assert_eq!(map.len(), points, "{name}");
-            assert_eq!(f.to_cloud().len(), points, "{name}: every point reaches the cloud");
+            assert_eq!(
+                f.to_cloud().len(),
+                points,
+                "{name}: every point reaches the cloud"
+            );
             assert!(map.pixel.iter().all(|&p| p != ScanPoints::NONE));
             // Nearly every point has a pixel of its own (ring rows, 1024 azimuth columns).
             assert!(

@@ -254,9 +254,27 @@ mod tests {
     #[test]
     fn floor_i32_is_floor_then_a_saturating_cast() {
         for v in [
-            0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 2.999, -2.999, 1e9, -1e9, 2147483647.5,
-            -2147483648.0, -2147483648.5, -2147483649.0, 1e300, -1e300, f64::INFINITY,
-            f64::NEG_INFINITY, f64::NAN, f64::MIN_POSITIVE, -f64::MIN_POSITIVE,
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.999,
+            -2.999,
+            1e9,
+            -1e9,
+            2147483647.5,
+            -2147483648.0,
+            -2147483648.5,
+            -2147483649.0,
+            1e300,
+            -1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
         ] {
             assert_eq!(floor_i32(v), v.floor() as i32, "{v}");
         }

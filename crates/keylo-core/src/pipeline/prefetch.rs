@@ -146,7 +146,11 @@ mod tests {
     #[test]
     fn frames_come_in_order_then_the_end_or_the_error() {
         for fail in [false, true] {
-            let source = Box::new(Counter { next: 0, n: 5, fail });
+            let source = Box::new(Counter {
+                next: 0,
+                n: 5,
+                fail,
+            });
             let mut p = Prefetched::new(source, 2).unwrap();
             assert_eq!(p.info().frames, Some(5));
             assert_eq!(p.frame_origin(3).as_deref(), Some("file3"));

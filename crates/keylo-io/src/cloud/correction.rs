@@ -25,7 +25,11 @@ impl VerticalAngleCorrection {
     /// upstream's, and the reader drops it.
     pub fn apply(&self, p: [f64; 3]) -> [f64; 3] {
         // p × (0, 0, 1), with Eigen's operation order.
-        let axis = [p[1] * 1.0 - p[2] * 0.0, p[2] * 0.0 - p[0] * 1.0, p[0] * 0.0 - p[1] * 0.0];
+        let axis = [
+            p[1] * 1.0 - p[2] * 0.0,
+            p[2] * 0.0 - p[0] * 1.0,
+            p[0] * 0.0 - p[1] * 0.0,
+        ];
         let norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
         let a = [axis[0] / norm, axis[1] / norm, axis[2] / norm];
         let m = rotation_matrix(self.angle_rad, a);

@@ -9,13 +9,13 @@
 
 use std::sync::Arc;
 
-pub use super::projection_config::{Grid, ProjectionConfig, RingOrder, RowSource, Sensor};
 use super::azimuth::azimuth_column;
+pub use super::projection_config::{Grid, ProjectionConfig, RingOrder, RowSource, Sensor};
 use super::rows::RowLookup;
 use super::{organised::column_times, RawCloud, VerticalAngleCorrection};
-use rayon::prelude::*;
 use keylo_core::{BeamGeometry, LidarFrame, ScanPoints};
 use nalgebra::Point3;
+use rayon::prelude::*;
 
 /// Projects the clouds of one sequence (the ring order, once decided, holds for all).
 #[derive(Debug, Clone)]
@@ -123,7 +123,8 @@ impl Projector {
             pixel: Vec::with_capacity(kept),
             ..ScanPoints::default()
         };
-        let mut times = (cloud.time.is_some() || period.is_some()).then(|| Vec::with_capacity(kept));
+        let mut times =
+            (cloud.time.is_some() || period.is_some()).then(|| Vec::with_capacity(kept));
         let mut intensity = cloud.intensity.as_ref().map(|_| Vec::with_capacity(kept));
         let mut ring_out = cloud.ring.as_ref().map(|_| Vec::with_capacity(kept));
         let mut time_samples = Vec::new();

@@ -89,7 +89,10 @@ impl ProjectionConfig {
         let sensor = self.sensor.or(source_default).grid();
         let table = match &self.altitudes_deg {
             Some(t) => t.clone(),
-            None if self.rows.is_none() && self.fov_up_deg.is_none() && self.fov_down_deg.is_none() => {
+            None if self.rows.is_none()
+                && self.fov_up_deg.is_none()
+                && self.fov_down_deg.is_none() =>
+            {
                 sensor.altitudes_deg.clone()
             }
             None => Vec::new(),
@@ -114,13 +117,18 @@ impl ProjectionConfig {
                 self.fov_up_deg.unwrap_or(sensor.fov_deg.0),
                 self.fov_down_deg.unwrap_or(sensor.fov_deg.1),
             );
-            let fov_ok = up.is_finite() && down.is_finite() && up > down && up <= 90.0 && down >= -90.0;
+            let fov_ok =
+                up.is_finite() && down.is_finite() && up > down && up <= 90.0 && down >= -90.0;
             if !fov_ok {
                 return Err(format!(
                     "projection: fov_up_deg = {up} and fov_down_deg = {down}; expected -90 <= down < up <= 90"
                 ));
             }
-            let step = if rows > 1 { (up - down) / (rows - 1) as f64 } else { 0.0 };
+            let step = if rows > 1 {
+                (up - down) / (rows - 1) as f64
+            } else {
+                0.0
+            };
             (0..rows).map(|r| up - r as f64 * step).collect()
         } else {
             let mut a = table;
@@ -152,9 +160,14 @@ mod tests {
     #[test]
     fn sensors_fill_what_the_keys_leave_unset() {
         let kitti = ProjectionConfig::default().resolve(Sensor::Hdl64e).unwrap();
-        assert_eq!((kitti.rows, kitti.cols, kitti.model.as_str()), (64, 2048, "HDL-64E"));
+        assert_eq!(
+            (kitti.rows, kitti.cols, kitti.model.as_str()),
+            (64, 2048, "HDL-64E")
+        );
         assert_eq!(kitti.altitudes_deg[0], 3.0);
-        let generic = ProjectionConfig::default().resolve(Sensor::Generic).unwrap();
+        let generic = ProjectionConfig::default()
+            .resolve(Sensor::Generic)
+            .unwrap();
         assert_eq!((generic.rows, generic.cols), (64, 1024));
         let vlp = ProjectionConfig {
             sensor: Sensor::Vlp16,
@@ -173,24 +186,48 @@ mod tests {
         }
         .resolve(Sensor::Generic)
         .unwrap();
-        assert_eq!((even.rows, even.altitudes_deg[0], even.altitudes_deg[7]), (8, 15.0, -25.0));
+        assert_eq!(
+            (even.rows, even.altitudes_deg[0], even.altitudes_deg[7]),
+            (8, 15.0, -25.0)
+        );
     }
 
     #[test]
     fn bad_values_name_their_key() {
         let cases = [
-            (ProjectionConfig { cols: Some(0), ..Default::default() }, "projection.cols"),
-            (ProjectionConfig { rows: Some(0), ..Default::default() }, "projection.rows"),
             (
-                ProjectionConfig { fov_up_deg: Some(-30.0), ..Default::default() },
+                ProjectionConfig {
+                    cols: Some(0),
+                    ..Default::default()
+                },
+                "projection.cols",
+            ),
+            (
+                ProjectionConfig {
+                    rows: Some(0),
+                    ..Default::default()
+                },
+                "projection.rows",
+            ),
+            (
+                ProjectionConfig {
+                    fov_up_deg: Some(-30.0),
+                    ..Default::default()
+                },
                 "fov_up_deg",
             ),
             (
-                ProjectionConfig { altitudes_deg: Some(vec![100.0]), ..Default::default() },
+                ProjectionConfig {
+                    altitudes_deg: Some(vec![100.0]),
+                    ..Default::default()
+                },
                 "altitudes_deg",
             ),
             (
-                ProjectionConfig { frame_rate_hz: -1.0, ..Default::default() },
+                ProjectionConfig {
+                    frame_rate_hz: -1.0,
+                    ..Default::default()
+                },
                 "frame_rate_hz",
             ),
         ];

@@ -142,7 +142,10 @@ mod tests {
 
     #[test]
     fn the_table_gives_the_searched_row_everywhere() {
-        for altitudes in [uneven(), (0..64).map(|i| 3.0 - i as f64 * 28.0 / 63.0).collect()] {
+        for altitudes in [
+            uneven(),
+            (0..64).map(|i| 3.0 - i as f64 * 28.0 / 63.0).collect(),
+        ] {
             let l = RowLookup::new(altitudes.clone());
             let mut e = -30.0;
             while e < 8.0 {

@@ -70,7 +70,11 @@ impl Framer {
                 table.first().copied().unwrap_or(0.0),
                 table.last().copied().unwrap_or(0.0),
             );
-            let step = if rows > 1 { (up - down) / (rows - 1) as f64 } else { 0.0 };
+            let step = if rows > 1 {
+                (up - down) / (rows - 1) as f64
+            } else {
+                0.0
+            };
             (0..rows).map(|r| up - r as f64 * step).collect()
         };
         let beams = Arc::new(BeamGeometry {

@@ -41,7 +41,11 @@ pub fn plane_information(
     max_points: usize,
 ) -> PlaneInformation {
     let radius = PLANE_RADIUS_VOXELS * map.voxel_size();
-    let picked: Vec<Point3<f64>> = source.iter().step_by(stride(source, max_points)).copied().collect();
+    let picked: Vec<Point3<f64>> = source
+        .iter()
+        .step_by(stride(source, max_points))
+        .copied()
+        .collect();
     let partials: Vec<Sums> = picked
         .par_chunks(CHUNK)
         .map(|chunk| {
@@ -66,7 +70,12 @@ pub fn information_with_normals(
     max_points: usize,
     normal_at: impl FnMut(&Point3<f64>) -> Option<Vector3<f64>>,
 ) -> PlaneInformation {
-    sums(source.iter().step_by(stride(source, max_points)), pose, normal_at).finish()
+    sums(
+        source.iter().step_by(stride(source, max_points)),
+        pose,
+        normal_at,
+    )
+    .finish()
 }
 
 fn stride(source: &[Point3<f64>], max_points: usize) -> usize {

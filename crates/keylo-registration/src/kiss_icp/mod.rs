@@ -384,10 +384,8 @@ impl KissIcp {
         if prepared.source.is_empty() && !cloud.is_empty() {
             // Say why (points beyond max_range may be a unit problem); the caller names the
             // frame.
-            let why = frame_step::nothing_in_range(
-                cloud,
-                (self.config.min_range, self.config.max_range),
-            );
+            let why =
+                frame_step::nothing_in_range(cloud, (self.config.min_range, self.config.max_range));
             tracing::warn!("the pose is predicted: {why}");
         }
         let result = icp::align(
