@@ -260,21 +260,20 @@ fn a_truncated_frame_file_is_named_and_earlier_frames_kept() {
     let bytes = std::fs::read(&bad).unwrap();
     std::fs::write(&bad, &bytes[..bytes.len() / 2]).unwrap();
     let out = tmp.path().join("out");
-    let o = keylo(
-        &[
-            "run",
-            "--data",
-            data.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "-q",
-        ],
-        tmp.path(),
-    );
+    let o = run_quiet(&data, &out, tmp.path());
     expect_failure(&o, 3, "000002.klf");
     expect_failure(&o, 3, "truncated");
-    let tum = std::fs::read_to_string(out.join("trajectory.tum")).unwrap();
-    assert_eq!(tum.lines().filter(|l| !l.starts_with('#')).count(), 2);
+    assert_eq!(pose_lines(&out), 2);
+}
+
+/// `keylo run -q --data DATA --out OUT`.
+fn run_quiet(
+    data: &std::path::Path,
+    out: &std::path::Path,
+    cwd: &std::path::Path,
+) -> std::process::Output {
+    let (data, out) = (data.to_str().unwrap(), out.to_str().unwrap());
+    keylo(&["run", "--data", data, "--out", out, "-q"], cwd)
 }
 
 #[test]
@@ -360,17 +359,7 @@ fn a_pcd_with_fewer_points_than_its_header_says_stops_at_its_frame() {
         std::fs::write(data.join(format!("{i}.pcd")), format!("{header}{body}")).unwrap();
     }
     let out = tmp.path().join("out");
-    let o = keylo(
-        &[
-            "run",
-            "--data",
-            data.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "-q",
-        ],
-        tmp.path(),
-    );
+    let o = run_quiet(&data, &out, tmp.path());
     expect_failure(&o, 3, "frame 1");
     expect_failure(&o, 3, "1.pcd");
     expect_failure(&o, 3, "of the 5 in POINTS");

@@ -24,10 +24,9 @@ pub(crate) struct Budget {
 
 impl Budget {
     pub(crate) fn new(
-        points: usize,
+        (points, pixel_points): (usize, PixelPoints),
         windows: &Windows,
         mapping: Mapping,
-        pixel_points: PixelPoints,
     ) -> Result<Self, CoreError> {
         let sizes = windows.sizes().map_err(|e| e.in_stage("downsampler"))?;
         Ok(Self {

@@ -50,10 +50,9 @@ impl RandomDownsampler {
     pub fn new(config: RandomConfig) -> Result<Self, CoreError> {
         Ok(Self {
             budget: Budget::new(
-                config.points,
+                (config.points, config.pixel_points),
                 &config.windows,
                 config.mapping,
-                config.pixel_points,
             )?,
             seed: config.seed,
         })

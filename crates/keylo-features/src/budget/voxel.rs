@@ -49,10 +49,9 @@ impl VoxelBudgetDownsampler {
     pub fn new(config: VoxelBudgetConfig) -> Result<Self, CoreError> {
         Ok(Self {
             budget: Budget::new(
-                config.points,
+                (config.points, config.pixel_points),
                 &config.windows,
                 config.mapping,
-                config.pixel_points,
             )?,
             steps: config.search_steps.clamp(1, 64),
         })
