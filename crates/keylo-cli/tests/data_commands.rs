@@ -224,3 +224,54 @@ fn frame_folders_take_start_stride_and_max_frames() {
     );
     expect_failure(&o, 2, "source.stride");
 }
+
+/// An unorganised source converts with every point, not one per image pixel, and `keylo
+/// info` counts its points and the ones sharing a pixel.
+#[test]
+fn unorganised_scans_convert_with_every_point_and_info_counts_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let bin = tmp.path().join("bin");
+    let o = keylo(
+        &[
+            "sim", "-q", "--scene", "road", "--frames", "2", "--format", "kitti-bin", "--out",
+            bin.to_str().unwrap(), "--set", "sensor=os1-64", "--set", "columns=1024",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let velodyne = bin.join("velodyne");
+    let first = std::fs::read_dir(&velodyne)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .min()
+        .unwrap();
+    let points = std::fs::metadata(&first).unwrap().len() / 16;
+    // A coarse grid, so that many points share a pixel.
+    let sets = ["--set", "source.projection.cols=256"];
+    let mut args = vec!["info", velodyne.to_str().unwrap(), "--json"];
+    args.extend(sets);
+    let o = keylo(&args, tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let info: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let stats = &info["points"];
+    let sharing = stats["mean_sharing"].as_f64().unwrap();
+    assert!(stats["mean_points"].as_f64().unwrap() > 0.0 && sharing > 0.0, "{stats}");
+    let ply = tmp.path().join("ply");
+    let mut args = vec![
+        "convert",
+        velodyne.to_str().unwrap(),
+        "--format",
+        "ply",
+        "--out",
+        ply.to_str().unwrap(),
+    ];
+    args.extend(sets);
+    let o = keylo(&args, tmp.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let header = std::fs::read(ply.join("000000.ply")).unwrap();
+    let header = String::from_utf8_lossy(&header[..400.min(header.len())]).to_string();
+    assert!(
+        header.contains(&format!("element vertex {points}\n")),
+        "{points} points expected: {header}"
+    );
+}

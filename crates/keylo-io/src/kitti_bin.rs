@@ -17,15 +17,15 @@ pub fn write_kitti_bin(path: &Path, frame: &LidarFrame) -> Result<usize, IoError
 /// field); returns the number of points.
 pub fn write_kitti_bin_points(path: &Path, points: &ExportPoints) -> Result<usize, IoError> {
     let field = points.fields.first().copied();
-    let mut bytes = Vec::with_capacity(points.pixels.len() * 16);
-    for &i in &points.pixels {
+    let mut bytes = Vec::with_capacity(points.items.len() * 16);
+    for &i in &points.items {
         let [x, y, z] = points.xyz(i);
         for v in [x, y, z, field.map_or(0.0, |f| points.value(f, i))] {
             bytes.extend_from_slice(&v.to_le_bytes());
         }
     }
     std::fs::write(path, &bytes).map_err(|e| IoError::io(path, e))?;
-    Ok(points.pixels.len())
+    Ok(points.items.len())
 }
 
 /// Reads a `.bin` frame back as `[x, y, z, intensity]` rows.

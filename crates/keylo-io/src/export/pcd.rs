@@ -9,7 +9,7 @@ use crate::IoError;
 
 /// Writes `points` to `path`; returns the number of points.
 pub fn write_pcd(path: &Path, points: &ExportPoints) -> Result<usize, IoError> {
-    let n = points.pixels.len();
+    let n = points.items.len();
     let names: Vec<&str> = ["x", "y", "z"]
         .into_iter()
         .chain(points.fields.iter().map(|f| f.name()))

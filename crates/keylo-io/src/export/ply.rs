@@ -12,7 +12,7 @@ pub fn write_ply(path: &Path, points: &ExportPoints, comment: &str) -> Result<us
     for line in comment.lines() {
         header += &format!("comment {line}\n");
     }
-    header += &format!("element vertex {}\n", points.pixels.len());
+    header += &format!("element vertex {}\n", points.items.len());
     header += "property float x\nproperty float y\nproperty float z\n";
     for f in &points.fields {
         let ty = if f.is_u16() { "ushort" } else { "float" };
@@ -23,5 +23,5 @@ pub fn write_ply(path: &Path, points: &ExportPoints, comment: &str) -> Result<us
     file.write_all(header.as_bytes())
         .and_then(|()| file.write_all(&points.binary_le()))
         .map_err(|e| IoError::io(path, e))?;
-    Ok(points.pixels.len())
+    Ok(points.items.len())
 }
