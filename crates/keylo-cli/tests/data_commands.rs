@@ -233,8 +233,20 @@ fn unorganised_scans_convert_with_every_point_and_info_counts_them() {
     let bin = tmp.path().join("bin");
     let o = keylo(
         &[
-            "sim", "-q", "--scene", "road", "--frames", "2", "--format", "kitti-bin", "--out",
-            bin.to_str().unwrap(), "--set", "sensor=os1-64", "--set", "columns=1024",
+            "sim",
+            "-q",
+            "--scene",
+            "road",
+            "--frames",
+            "2",
+            "--format",
+            "kitti-bin",
+            "--out",
+            bin.to_str().unwrap(),
+            "--set",
+            "sensor=os1-64",
+            "--set",
+            "columns=1024",
         ],
         tmp.path(),
     );
@@ -255,7 +267,10 @@ fn unorganised_scans_convert_with_every_point_and_info_counts_them() {
     let info: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     let stats = &info["points"];
     let sharing = stats["mean_sharing"].as_f64().unwrap();
-    assert!(stats["mean_points"].as_f64().unwrap() > 0.0 && sharing > 0.0, "{stats}");
+    assert!(
+        stats["mean_points"].as_f64().unwrap() > 0.0 && sharing > 0.0,
+        "{stats}"
+    );
     let ply = tmp.path().join("ply");
     let mut args = vec![
         "convert",

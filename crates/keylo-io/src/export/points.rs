@@ -98,9 +98,7 @@ impl<'a> ExportPoints<'a> {
         let items = match &frame.scan {
             Some(scan) => (0..scan.len()).collect(),
             None => (0..frame.rows * frame.cols)
-                .filter(|&i| {
-                    frame.valid[i] && frame.points[i].coords.iter().all(|v| v.is_finite())
-                })
+                .filter(|&i| frame.valid[i] && frame.points[i].coords.iter().all(|v| v.is_finite()))
                 .collect(),
         };
         Self {
@@ -140,7 +138,10 @@ impl<'a> ExportPoints<'a> {
             };
         };
         let pixel = scan.pixel[i] as usize;
-        let shown = scan.pixel_to_point.get(pixel).is_some_and(|&k| k as usize == i);
+        let shown = scan
+            .pixel_to_point
+            .get(pixel)
+            .is_some_and(|&k| k as usize == i);
         match f {
             ExportField::Signal => scan.intensity.as_ref().map_or(0.0, |v| v[i]),
             ExportField::Reflectivity if shown => fr.reflectivity[pixel],
