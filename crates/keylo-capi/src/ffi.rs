@@ -271,9 +271,10 @@ pub unsafe extern "C" fn keylo_pipeline_push_frame(
     })
 }
 
-/// Processes an unorganised cloud of `n` points (`xyz`: `3 * n` floats, sensor frame),
-/// projected onto the `[source.projection]` grid. `times` (per-point seconds relative to
-/// `timestamp`, for deskew) and `intensity` may be NULL. Returns 0, or -1.
+/// Processes an unorganised cloud of `n` points (`xyz`: `3 * n` floats, sensor frame). Every
+/// finite point is kept (a raw-cloud pipeline registers all of them); the `[source.projection]`
+/// grid indexes them for the image stages, when the pipeline has any. `times` (per-point
+/// seconds relative to `timestamp`, for deskew) and `intensity` may be NULL. Returns 0, or -1.
 ///
 /// # Safety
 /// `p` from `keylo_pipeline_new`; the buffers hold `3 * n`, `n` and `n` values.
