@@ -28,7 +28,9 @@ impl Embedded {
         raw.base_dir = base_dir.to_path_buf();
         let projection = projection(&raw)?;
         raw.table.remove("source");
+        #[allow(unused_mut)] // mutated only with run-time plugins
         let mut registry = keylo::registry();
+        #[cfg(feature = "plugins")]
         keylo::plugin::load_for_config(&mut registry, &raw)?;
         let config = registry.resolve(&raw)?;
         let odometry = Odometry::build(&config, &registry)?;

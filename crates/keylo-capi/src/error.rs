@@ -5,6 +5,7 @@
 pub enum CapiError {
     #[error(transparent)]
     Config(#[from] keylo::ConfigError),
+    #[cfg(feature = "plugins")]
     #[error(transparent)]
     Plugin(#[from] keylo::plugin::PluginError),
     #[error(transparent)]

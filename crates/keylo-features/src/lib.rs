@@ -12,6 +12,7 @@ pub mod matching;
 pub mod native;
 mod native_heap;
 pub mod neighbourhood;
+#[cfg(feature = "superpoint")]
 pub mod superpoint;
 
 pub(crate) use error::check;
@@ -25,5 +26,6 @@ pub fn register(registry: &mut keylo_core::Registry) {
     native::register(registry);
     neighbourhood::register(registry);
     budget::register(registry);
+    #[cfg(feature = "superpoint")]
     superpoint::register(registry);
 }

@@ -15,6 +15,7 @@ pub mod ouster;
 pub mod pcd;
 pub mod ply;
 pub mod point_files;
+#[cfg(feature = "ros")]
 pub mod ros;
 pub mod select;
 
@@ -63,6 +64,13 @@ pub fn register(registry: &mut keylo_core::Registry) {
         point_files::build_pcd,
     );
     registry.add_source_probe("pcd", point_files::is_pcd_data);
+    #[cfg(feature = "ros")]
+    register_ros(registry);
+}
+
+/// Registers `ros1-bag` and `mcap` (feature `ros`).
+#[cfg(feature = "ros")]
+fn register_ros(registry: &mut keylo_core::Registry) {
     registry.sources.add::<ros::BagSourceConfig>(
         "ros1-bag",
         "a ROS1 .bag: sensor_msgs/PointCloud2 clouds (organised or projected), optional sensor_msgs/Image channels",
