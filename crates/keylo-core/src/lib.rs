@@ -19,6 +19,7 @@ pub mod registry;
 pub mod scan;
 pub mod stages;
 pub mod trajectory;
+pub mod voxel;
 
 pub use cloud::PointCloud;
 pub use degeneracy::Degeneracy;

@@ -20,7 +20,9 @@ pub mod ndt;
 pub mod se3;
 #[cfg(test)]
 mod test_scenes;
-pub mod voxel;
+/// Voxel keys and downsampling live in `keylo_core::voxel` (the keypoint downsamplers use
+/// them too); re-exported here where the registrars have always found them.
+pub use keylo_core::voxel;
 
 pub use error::RegistrationError;
 pub use hybrid::{CloudResidual, Hybrid, HybridConfig};
