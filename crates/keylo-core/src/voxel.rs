@@ -73,7 +73,7 @@ pub type VoxelMap<V> = HashMap<Voxel, V, BuildHasherDefault<VoxelHasher>>;
 /// Keeps the first point of every voxel of edge `size`, in input order (as upstream does).
 ///
 /// ```
-/// use keylo_registration::voxel::downsample_indices;
+/// use keylo_core::voxel::downsample_indices;
 /// use nalgebra::Point3;
 /// let pts = [Point3::new(0.1, 0.1, 0.1), Point3::new(0.2, 0.2, 0.2), Point3::new(2.0, 0.0, 0.0)];
 /// assert_eq!(downsample_indices(&pts, 1.0), vec![0, 2]);
@@ -102,7 +102,7 @@ pub fn downsample(points: &[Point3<f64>], size: f64) -> Vec<Point3<f64>> {
 /// `VoxelGrid` filter up to point order).
 ///
 /// ```
-/// use keylo_registration::voxel::centroids;
+/// use keylo_core::voxel::centroids;
 /// use nalgebra::Point3;
 /// let pts = [Point3::new(0.1, 0.1, 0.1), Point3::new(0.3, 0.3, 0.3), Point3::new(2.0, 0.0, 0.0)];
 /// assert_eq!(centroids(&pts, 1.0), vec![Point3::new(0.2, 0.2, 0.2), pts[2]]);
