@@ -6,14 +6,29 @@ use std::process::Command;
 
 /// Crates that only the optional features may bring in.
 const HEAVY: [&str; 8] = [
-    "opencv", "ort", "libloading", "parry3d", "mcap", "zstd", "bzip2", "lz4",
+    "opencv",
+    "ort",
+    "libloading",
+    "parry3d",
+    "mcap",
+    "zstd",
+    "bzip2",
+    "lz4",
 ];
 
 /// The names of every crate in the normal dependency graph of `package` built with `args`.
 fn graph(package: &str, args: &[&str]) -> Vec<String> {
     let root = env!("CARGO_MANIFEST_DIR");
     let out = Command::new(env!("CARGO"))
-        .args(["tree", "--locked", "--offline", "-e", "normal", "--prefix", "none"])
+        .args([
+            "tree",
+            "--locked",
+            "--offline",
+            "-e",
+            "normal",
+            "--prefix",
+            "none",
+        ])
         .args(["--format", "{p}", "-p", package])
         .args(args)
         .current_dir(root)
@@ -35,12 +50,18 @@ fn the_lean_graph_has_no_heavy_crate_and_the_full_one_has_them() {
     for package in ["keylo", "keylo-capi"] {
         let lean = graph(package, &["--no-default-features"]);
         assert!(lean.iter().any(|c| c == "keylo-registration"), "{lean:?}");
-        let heavy: Vec<_> = lean.iter().filter(|c| HEAVY.contains(&c.as_str())).collect();
+        let heavy: Vec<_> = lean
+            .iter()
+            .filter(|c| HEAVY.contains(&c.as_str()))
+            .collect();
         assert!(heavy.is_empty(), "{package} lean build pulls in {heavy:?}");
         // The check means something: the default build does have them.
         let full = graph(package, &[]);
         for crate_name in ["opencv", "ort", "libloading", "parry3d", "mcap"] {
-            assert!(full.iter().any(|c| c == crate_name), "{package}: {crate_name}");
+            assert!(
+                full.iter().any(|c| c == crate_name),
+                "{package}: {crate_name}"
+            );
         }
     }
 }

@@ -55,6 +55,10 @@ pub struct FrameResult {
 }
 
 /// The per-frame stages, without a source: embed this to feed frames yourself.
+///
+/// Thread-safety: `Odometry` is `Send` but not `Sync`: move it to any thread, use it from one
+/// thread at a time (every method that changes state takes `&mut self`, so the compiler
+/// enforces it). Its stages may use rayon's pool (or their own) inside a call.
 pub struct Odometry {
     pub image: Option<Box<dyn ImageBuilder>>,
     pub detector: PerImage<dyn Detector>,
@@ -145,6 +149,34 @@ impl Odometry {
     /// ([`ImageSource::set_grid_needed`]).
     pub fn needs_grid(&self) -> bool {
         self.image.is_some() || self.downsampler.needs_grid() || self.registrar.wants_keypoints()
+    }
+
+    /// SLAM hook: the motion from the last frame to the next (e.g. from an IMU), used by the
+    /// registrar instead of its motion model for the next frame only
+    /// ([`Registrar::set_motion_prior`]); an error when the registrar does not offer it or
+    /// the transform is not rigid.
+    pub fn set_motion_prior(&mut self, delta: &Pose) -> Result<(), CoreError> {
+        self.registrar.set_motion_prior(delta)
+    }
+
+    /// SLAM hook: starts over: the registrar forgets its map and motion, and the next frame
+    /// may have any time stamp ([`Registrar::reset`]).
+    pub fn reset(&mut self) -> Result<(), CoreError> {
+        self.registrar.reset()?;
+        self.last_timestamp = None;
+        self.last_cloud = None;
+        Ok(())
+    }
+
+    /// SLAM hook: the last frame's pose becomes `pose`; the map and motion are kept
+    /// ([`Registrar::set_pose`]).
+    pub fn set_pose(&mut self, pose: &Pose) -> Result<(), CoreError> {
+        self.registrar.set_pose(pose)
+    }
+
+    /// SLAM hook: the registrar's local map, world frame (empty when it does not expose one).
+    pub fn local_map(&self) -> Vec<nalgebra::Point3<f64>> {
+        self.registrar.local_map()
     }
 
     /// The cloud the downsampler gave the registrar for the last frame processed, in the

@@ -56,4 +56,40 @@ pub trait Registrar: Send {
     fn accepts_empty_clouds(&self) -> bool {
         false
     }
+
+    /// SLAM hook: the motion from the last registered frame to the next one (sensor frame
+    /// of the last, as `last_pose⁻¹ · next_pose`), e.g. from an IMU or wheel odometry. The
+    /// next call to `register` uses it instead of its own motion model (constant velocity)
+    /// for the initial guess and for deskewing, then forgets it (successful or not). By
+    /// default unsupported: an error naming the hook.
+    fn set_motion_prior(&mut self, delta: &Pose) -> Result<(), CoreError> {
+        let _ = delta;
+        Err(unsupported("set_motion_prior"))
+    }
+
+    /// SLAM hook: forget the map and the motion, as a new registrar (relocalisation from
+    /// scratch). By default unsupported.
+    fn reset(&mut self) -> Result<(), CoreError> {
+        Err(unsupported("reset"))
+    }
+
+    /// SLAM hook: the pose of the last registered frame becomes `pose` (a correction from a
+    /// back end or a relocalisation); the map and the motion model are kept. By default
+    /// unsupported.
+    fn set_pose(&mut self, pose: &Pose) -> Result<(), CoreError> {
+        let _ = pose;
+        Err(unsupported("set_pose"))
+    }
+
+    /// SLAM hook: the points of the local map, world frame. Empty by default.
+    fn local_map(&self) -> Vec<nalgebra::Point3<f64>> {
+        Vec::new()
+    }
+}
+
+fn unsupported(hook: &str) -> CoreError {
+    CoreError::stage(
+        "registrar",
+        format!("this registrar does not offer `{hook}`"),
+    )
 }

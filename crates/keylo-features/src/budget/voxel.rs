@@ -1,7 +1,7 @@
 //! `voxel-budget`: a voxel grid whose size is searched per frame to meet a point budget.
 
-use keylo_core::{CoreError, Downsampler, FrameFeatures, LidarFrame, PixelPoints, PointCloud};
 use keylo_core::voxel::downsample_indices;
+use keylo_core::{CoreError, Downsampler, FrameFeatures, LidarFrame, PixelPoints, PointCloud};
 use serde::{Deserialize, Serialize};
 
 use super::Budget;

@@ -74,7 +74,7 @@ impl Hybrid {
                     &mut image.points,
                     &image.times,
                     span,
-                    self.icp.last_delta(),
+                    self.icp.motion_model(),
                 );
             }
         }
@@ -225,5 +225,22 @@ impl Registrar for Hybrid {
 
     fn map_size(&self) -> usize {
         self.icp.map().len()
+    }
+
+    fn set_motion_prior(&mut self, delta: &Isometry3<f64>) -> Result<(), CoreError> {
+        self.icp.set_motion_prior(delta)
+    }
+
+    fn reset(&mut self) -> Result<(), CoreError> {
+        *self = Hybrid::new(self.config.clone())?;
+        Ok(())
+    }
+
+    fn set_pose(&mut self, pose: &Isometry3<f64>) -> Result<(), CoreError> {
+        self.icp.set_pose(pose)
+    }
+
+    fn local_map(&self) -> Vec<nalgebra::Point3<f64>> {
+        self.icp.local_map()
     }
 }

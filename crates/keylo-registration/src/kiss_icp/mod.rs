@@ -193,6 +193,8 @@ pub struct KissIcp {
     source: Vec<Point3<f64>>,
     /// The deskewed, cropped scan (a buffer reused between frames).
     preprocessed: Vec<Point3<f64>>,
+    /// An external motion prior for the next frame (`Registrar::set_motion_prior`).
+    prior: Option<Isometry3<f64>>,
 }
 
 impl KissIcp {
@@ -222,6 +224,7 @@ impl KissIcp {
             frame_downsample: Vec::new(),
             source: Vec::new(),
             preprocessed: Vec::new(),
+            prior: None,
         })
     }
 
@@ -235,10 +238,17 @@ impl KissIcp {
         self.last_pose
     }
 
-    /// Deskew and range filter, as upstream's `Preprocessor`, into `out`.
-    fn preprocess(&self, cloud: &PointCloud, out: &mut Vec<Point3<f64>>) {
+    /// Deskew with the motion `delta` and range filter, as upstream's `Preprocessor`, into
+    /// `out`.
+    fn preprocess(&self, cloud: &PointCloud, delta: &Isometry3<f64>, out: &mut Vec<Point3<f64>>) {
         let range = (self.config.min_range, self.config.max_range);
-        frame_step::deskew_and_crop_into(cloud, self.config.deskew, &self.last_delta, range, out);
+        frame_step::deskew_and_crop_into(cloud, self.config.deskew, delta, range, out);
+    }
+
+    /// The motion the next frame is predicted and deskewed with: the external prior when one
+    /// is set, else the last frame-to-frame motion (constant velocity).
+    pub(crate) fn motion_model(&self) -> &Isometry3<f64> {
+        self.prior.as_ref().unwrap_or(&self.last_delta)
     }
 
     fn sigma(&self) -> f64 {
@@ -276,8 +286,9 @@ impl KissIcp {
         cloud: &PointCloud,
         allow_empty: bool,
     ) -> Result<Prepared, RegistrationError> {
+        let delta = self.prior.take().unwrap_or(self.last_delta);
         let mut frame = std::mem::take(&mut self.preprocessed);
-        self.preprocess(cloud, &mut frame);
+        self.preprocess(cloud, &delta, &mut frame);
         if frame.is_empty() && !allow_empty {
             self.preprocessed = frame;
             return Err(frame_step::nothing_in_range(
@@ -306,7 +317,7 @@ impl KissIcp {
         Ok(Prepared {
             frame_downsample,
             source,
-            guess: self.last_pose * self.last_delta,
+            guess: self.last_pose * delta,
             settings,
         })
     }
@@ -342,11 +353,6 @@ impl KissIcp {
     /// The local map.
     pub(crate) fn map(&self) -> &VoxelHashMap {
         &self.map
-    }
-
-    /// The last frame-to-frame motion (the deskew and prediction model).
-    pub(crate) fn last_delta(&self) -> &Isometry3<f64> {
-        &self.last_delta
     }
 
     /// The registrar's own thread pool slot.
@@ -440,4 +446,59 @@ impl Registrar for KissIcp {
     fn accepts_empty_clouds(&self) -> bool {
         self.config.empty_frame == EmptyFrame::Predict
     }
+
+    fn set_motion_prior(&mut self, delta: &Isometry3<f64>) -> Result<(), CoreError> {
+        check_rigid(delta, "motion prior")?;
+        let step = delta.translation.vector.norm();
+        let bound = self.config.max_motion_per_frame;
+        if bound > 0.0 && step > bound {
+            return Err(CoreError::stage(
+                "registrar",
+                format!(
+                    "motion prior: a step of {step:.3} m is beyond `max_motion_per_frame` = \
+                     {bound} m"
+                ),
+            ));
+        }
+        self.prior = Some(*delta);
+        Ok(())
+    }
+
+    fn reset(&mut self) -> Result<(), CoreError> {
+        *self = KissIcp::new(self.config.clone())?;
+        Ok(())
+    }
+
+    fn set_pose(&mut self, pose: &Isometry3<f64>) -> Result<(), CoreError> {
+        check_rigid(pose, "pose")?;
+        self.last_pose = *pose;
+        Ok(())
+    }
+
+    fn local_map(&self) -> Vec<Point3<f64>> {
+        self.map.points()
+    }
+}
+
+/// Refuses a transform with a non-finite value or a rotation quaternion off unit length (it
+/// would not be rigid).
+pub(crate) fn check_rigid(t: &Isometry3<f64>, what: &str) -> Result<(), CoreError> {
+    let finite = t
+        .translation
+        .vector
+        .iter()
+        .chain(t.rotation.coords.iter())
+        .all(|v| v.is_finite());
+    let norm = t.rotation.coords.norm();
+    if !finite || (norm - 1.0).abs() > 1e-6 {
+        return Err(CoreError::stage(
+            "registrar",
+            format!(
+                "{what}: not a rigid transform (translation {:?}, quaternion norm {norm}); \
+                 expected finite values and a unit quaternion",
+                t.translation.vector.as_slice()
+            ),
+        ));
+    }
+    Ok(())
 }
