@@ -118,6 +118,29 @@ int32_t keylo_pipeline_push_points(struct KeyloPipeline *p,
                                    const float *intensity,
                                    size_t n);
 
+// SLAM hook: the motion from the last frame to the next (`matrix`: a row-major 4x4 rigid
+// transform, `last_pose⁻¹ · next_pose`, e.g. from an IMU) replaces the registrar's
+// constant-velocity model for the next frame only. Returns 0, or -1 when the matrix is not
+// rigid, the step is beyond `max_motion_per_frame`, or the registrar does not offer it.
+//
+// # Safety
+// `p` from `keylo_pipeline_new`; `matrix` points to 16 doubles.
+int32_t keylo_pipeline_set_motion_prior(struct KeyloPipeline *p, const double *matrix);
+
+// SLAM hook: the last frame's pose becomes `matrix` (row-major 4x4 rigid transform); map
+// and motion are kept. Returns 0, or -1.
+//
+// # Safety
+// `p` from `keylo_pipeline_new`; `matrix` points to 16 doubles.
+int32_t keylo_pipeline_set_pose(struct KeyloPipeline *p, const double *matrix);
+
+// SLAM hook: forget the map, the motion and the last result; the next frame starts a new
+// trajectory at the identity. Returns 0, or -1.
+//
+// # Safety
+// `p` from `keylo_pipeline_new`.
+int32_t keylo_pipeline_reset(struct KeyloPipeline *p);
+
 // Writes the last frame's pose to `out`. Returns 0, or -1 before the first frame.
 //
 // # Safety

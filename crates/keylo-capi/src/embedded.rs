@@ -78,6 +78,20 @@ impl Embedded {
         Ok(())
     }
 
+    /// The per-frame stages, for the SLAM hooks (`Odometry::set_motion_prior`, `reset`,
+    /// `set_pose`, `local_map`).
+    pub fn odometry_mut(&mut self) -> &mut Odometry {
+        &mut self.odometry
+    }
+
+    /// Starts over ([`Odometry::reset`]): the last result and cloud are forgotten too.
+    pub fn reset(&mut self) -> Result<(), CapiError> {
+        self.odometry.reset()?;
+        self.last = None;
+        self.world_cloud.clear();
+        Ok(())
+    }
+
     /// The result of the last frame pushed.
     pub fn last(&self) -> Option<&FrameResult> {
         self.last.as_ref()

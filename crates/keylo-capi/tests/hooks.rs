@@ -1,0 +1,126 @@
+//! The SLAM hooks of the C API: motion prior, set_pose and reset, and their bad input (a
+//! matrix that is not rigid, NULL arguments).
+
+use std::ffi::{c_char, CStr};
+
+use keylo_capi::ffi::*;
+
+/// A room of three walls and a floor, seen from `x` along the x axis (sensor frame), as
+/// float xyz.
+fn room(x: f32) -> Vec<f32> {
+    let mut v = Vec::new();
+    for i in 0..60 {
+        for j in 0..20 {
+            let (a, b) = (i as f32 * 0.25 - 7.0, j as f32 * 0.2);
+            v.extend([a - x, 4.0, b]); // left wall
+            v.extend([a - x, -4.0, b]); // right wall
+            v.extend([8.0 - x, a * 0.5, b]); // end wall
+            v.extend([a - x, b * 2.0 - 3.0, -1.5]); // floor
+        }
+    }
+    v
+}
+
+fn error(p: *const KeyloPipeline) -> String {
+    // SAFETY: a pipeline from keylo_pipeline_new; the message is NUL-terminated.
+    unsafe { CStr::from_ptr(keylo_pipeline_error(p)) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn push(p: *mut KeyloPipeline, k: usize) -> i32 {
+    let xyz = room(0.1 * k as f32);
+    // SAFETY: `xyz` holds 3 * n floats; times and intensity may be NULL.
+    unsafe {
+        keylo_pipeline_push_points(
+            p,
+            0.1 * k as f64,
+            xyz.as_ptr(),
+            std::ptr::null(),
+            std::ptr::null(),
+            xyz.len() / 3,
+        )
+    }
+}
+
+const IDENTITY: [f64; 16] = [
+    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+];
+
+#[test]
+fn hooks_work_and_refuse_what_is_not_rigid() {
+    let toml = c"[registrar]\nkind = \"kiss-icp\"\nmax_range = 30.0\n";
+    let mut err = [0 as c_char; 256];
+    // SAFETY: valid strings and buffer.
+    let p = unsafe { keylo_pipeline_new(toml.as_ptr(), std::ptr::null(), err.as_mut_ptr(), 256) };
+    assert!(!p.is_null());
+    for k in 0..3 {
+        assert_eq!(push(p, k), KEYLO_CAPI_OK, "{}", error(p));
+    }
+    // A prior of 0.1 m along x, as the room moves by.
+    let mut step = IDENTITY;
+    step[3] = 0.1;
+    // SAFETY: 16 doubles.
+    assert_eq!(
+        unsafe { keylo_pipeline_set_motion_prior(p, step.as_ptr()) },
+        KEYLO_CAPI_OK
+    );
+    assert_eq!(push(p, 3), KEYLO_CAPI_OK, "{}", error(p));
+    // Not rigid: scaled, a bad last row, NaN, NULL.
+    let mut scaled = IDENTITY;
+    scaled[0] = 2.0;
+    let mut last_row = IDENTITY;
+    last_row[12] = 1.0;
+    let mut nan = IDENTITY;
+    nan[3] = f64::NAN;
+    for m in [scaled, last_row, nan] {
+        // SAFETY: 16 doubles.
+        let r = unsafe { keylo_pipeline_set_motion_prior(p, m.as_ptr()) };
+        assert_eq!(r, KEYLO_CAPI_ERROR);
+        assert!(error(p).contains("not a rigid transform"), "{}", error(p));
+    }
+    // SAFETY: NULL is refused, not read.
+    assert_eq!(
+        unsafe { keylo_pipeline_set_pose(p, std::ptr::null()) },
+        KEYLO_CAPI_ERROR
+    );
+    assert!(error(p).contains("NULL"), "{}", error(p));
+    // set_pose, then the pose of the next frame continues from it.
+    let mut moved = IDENTITY;
+    moved[3] = 100.0;
+    // SAFETY: 16 doubles.
+    assert_eq!(
+        unsafe { keylo_pipeline_set_pose(p, moved.as_ptr()) },
+        KEYLO_CAPI_OK
+    );
+    assert_eq!(push(p, 4), KEYLO_CAPI_OK, "{}", error(p));
+    let mut pose = std::mem::MaybeUninit::<KeyloPose>::uninit();
+    // SAFETY: `pose` is writable.
+    assert_eq!(
+        unsafe { keylo_pipeline_pose(p, pose.as_mut_ptr()) },
+        KEYLO_CAPI_OK
+    );
+    // SAFETY: written by the successful call.
+    let pose = unsafe { pose.assume_init() };
+    assert!(pose.translation[0] > 99.0, "{:?}", pose.translation);
+    // Reset: no pose until the next frame, which starts at the identity.
+    // SAFETY: a live pipeline.
+    assert_eq!(unsafe { keylo_pipeline_reset(p) }, KEYLO_CAPI_OK);
+    let mut none = std::mem::MaybeUninit::<KeyloPose>::uninit();
+    // SAFETY: `none` is writable.
+    assert_eq!(
+        unsafe { keylo_pipeline_pose(p, none.as_mut_ptr()) },
+        KEYLO_CAPI_ERROR
+    );
+    assert_eq!(push(p, 0), KEYLO_CAPI_OK, "{}", error(p));
+    // A NULL pipeline is an error for every hook.
+    // SAFETY: NULL is checked first.
+    unsafe {
+        assert_eq!(keylo_pipeline_reset(std::ptr::null_mut()), KEYLO_CAPI_ERROR);
+        assert_eq!(
+            keylo_pipeline_set_motion_prior(std::ptr::null_mut(), IDENTITY.as_ptr()),
+            KEYLO_CAPI_ERROR
+        );
+        keylo_pipeline_free(p);
+    }
+}
