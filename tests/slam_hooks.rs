@@ -130,7 +130,7 @@ fn reset_set_pose_and_the_local_map() {
 }
 
 #[test]
-fn bad_priors_and_unsupported_hooks_are_errors() {
+fn bad_priors_are_errors_and_ndt_offers_the_hooks_too() {
     let mut odo = odometry();
     let mut bad = Pose::identity();
     bad.translation.x = f64::NAN;
@@ -145,12 +145,17 @@ fn bad_priors_and_unsupported_hooks_are_errors() {
     );
     let e = odo.set_motion_prior(&far).unwrap_err().to_string();
     assert!(e.contains("max_motion_per_frame"), "{e}");
-    // NDT does not offer the hooks: an error naming the hook.
+    // NDT offers the hooks as well, with the same checks.
+    let (frames, _) = sudden_stop(3, 0);
     let (registry, config) = resolve("[registrar]\nkind = 'ndt'\n");
     let mut ndt = Odometry::build(&config, &registry).unwrap();
-    let e = ndt
-        .set_motion_prior(&Pose::identity())
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("set_motion_prior"), "{e}");
+    assert!(ndt.set_motion_prior(&far).is_err());
+    for f in &frames {
+        ndt.set_motion_prior(&Pose::identity()).unwrap();
+        ndt.process(f).unwrap();
+    }
+    assert!(!ndt.local_map().is_empty());
+    ndt.reset().unwrap();
+    assert!(ndt.local_map().is_empty());
+    assert_eq!(ndt.process(&frames[0]).unwrap().pose, Pose::identity());
 }

@@ -93,3 +93,47 @@ fn unsupported(hook: &str) -> CoreError {
         format!("this registrar does not offer `{hook}`"),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A registrar that implements only what it must.
+    struct Minimal;
+
+    impl Registrar for Minimal {
+        fn register(&mut self, cloud: &PointCloud) -> Result<Registration, CoreError> {
+            Ok(Registration {
+                stamp: cloud.timestamp,
+                pose: Pose::identity(),
+                source_points: cloud.len(),
+                iterations: 0,
+                converged: true,
+                degeneracy: None,
+            })
+        }
+        fn map_size(&self) -> usize {
+            0
+        }
+    }
+
+    #[test]
+    fn hooks_a_registrar_does_not_offer_are_errors_naming_them() {
+        let mut r = Minimal;
+        let id = Pose::identity();
+        let outcomes = [
+            ("set_motion_prior", r.set_motion_prior(&id)),
+            ("reset", r.reset()),
+            ("set_pose", r.set_pose(&id)),
+        ];
+        for (hook, e) in outcomes {
+            let text = e.unwrap_err().to_string();
+            assert!(
+                text.contains(hook) && text.contains("does not offer"),
+                "{text}"
+            );
+        }
+        assert!(r.local_map().is_empty());
+        assert!(!r.accepts_empty_clouds());
+    }
+}

@@ -448,18 +448,7 @@ impl Registrar for KissIcp {
     }
 
     fn set_motion_prior(&mut self, delta: &Isometry3<f64>) -> Result<(), CoreError> {
-        check_rigid(delta, "motion prior")?;
-        let step = delta.translation.vector.norm();
-        let bound = self.config.max_motion_per_frame;
-        if bound > 0.0 && step > bound {
-            return Err(CoreError::stage(
-                "registrar",
-                format!(
-                    "motion prior: a step of {step:.3} m is beyond `max_motion_per_frame` = \
-                     {bound} m"
-                ),
-            ));
-        }
+        check_prior(delta, self.config.max_motion_per_frame)?;
         self.prior = Some(*delta);
         Ok(())
     }
@@ -478,6 +467,21 @@ impl Registrar for KissIcp {
     fn local_map(&self) -> Vec<Point3<f64>> {
         self.map.points()
     }
+}
+
+/// Refuses a motion prior that is not rigid or steps beyond `bound` (m; 0: no bound).
+pub(crate) fn check_prior(delta: &Isometry3<f64>, bound: f64) -> Result<(), CoreError> {
+    check_rigid(delta, "motion prior")?;
+    let step = delta.translation.vector.norm();
+    if bound > 0.0 && step > bound {
+        return Err(CoreError::stage(
+            "registrar",
+            format!(
+                "motion prior: a step of {step:.3} m is beyond `max_motion_per_frame` = {bound} m"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses a transform with a non-finite value or a rotation quaternion off unit length (it

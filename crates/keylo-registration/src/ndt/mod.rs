@@ -56,6 +56,8 @@ pub struct Ndt {
     last_pose: Isometry3<f64>,
     last_delta: Isometry3<f64>,
     pool: Option<rayon::ThreadPool>,
+    /// An external motion prior for the next frame (`Registrar::set_motion_prior`).
+    prior: Option<Isometry3<f64>>,
 }
 
 impl Ndt {
@@ -75,6 +77,7 @@ impl Ndt {
             last_pose: Isometry3::identity(),
             last_delta: Isometry3::identity(),
             pool,
+            prior: None,
         })
     }
 
@@ -83,10 +86,10 @@ impl Ndt {
         self.last_pose
     }
 
-    /// Deskew and range filter.
-    fn preprocess(&self, cloud: &PointCloud) -> Vec<Point3<f64>> {
+    /// Deskew with the motion `delta` and range filter.
+    fn preprocess(&self, cloud: &PointCloud, delta: &Isometry3<f64>) -> Vec<Point3<f64>> {
         let range = (self.config.min_range, self.config.max_range);
-        frame_step::deskew_and_crop(cloud, self.config.deskew, &self.last_delta, range)
+        frame_step::deskew_and_crop(cloud, self.config.deskew, delta, range)
     }
 
     /// Rejects a non-finite pose or one that jumped beyond `max_motion_per_frame`.
@@ -106,7 +109,9 @@ impl Ndt {
         &mut self,
         cloud: &PointCloud,
     ) -> Result<(NdtResult, usize, Option<Degeneracy>), RegistrationError> {
-        let frame = self.preprocess(cloud);
+        // The external prior when one is set, else constant velocity.
+        let delta = self.prior.take().unwrap_or(self.last_delta);
+        let frame = self.preprocess(cloud, &delta);
         if frame.is_empty() {
             return Err(frame_step::nothing_in_range(
                 cloud,
@@ -129,7 +134,7 @@ impl Ndt {
             };
             return Ok((first, source.len(), None));
         };
-        let guess = self.last_pose * self.last_delta;
+        let guess = self.last_pose * delta;
         let result = align(target, &source, &guess, &self.config.solver())?;
         self.check_divergence(&result.pose)?;
         let degeneracy = self.degeneracy(target, &source, &result.pose);
@@ -183,5 +188,26 @@ impl Registrar for Ndt {
 
     fn map_size(&self) -> usize {
         self.map.len()
+    }
+
+    fn set_motion_prior(&mut self, delta: &Isometry3<f64>) -> Result<(), CoreError> {
+        crate::kiss_icp::check_prior(delta, self.config.max_motion_per_frame)?;
+        self.prior = Some(*delta);
+        Ok(())
+    }
+
+    fn reset(&mut self) -> Result<(), CoreError> {
+        *self = Ndt::new(self.config.clone())?;
+        Ok(())
+    }
+
+    fn set_pose(&mut self, pose: &Isometry3<f64>) -> Result<(), CoreError> {
+        crate::kiss_icp::check_rigid(pose, "pose")?;
+        self.last_pose = *pose;
+        Ok(())
+    }
+
+    fn local_map(&self) -> Vec<Point3<f64>> {
+        self.map.points()
     }
 }

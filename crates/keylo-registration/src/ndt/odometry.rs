@@ -53,6 +53,11 @@ impl LocalMap {
         self.target.as_ref()
     }
 
+    /// The keyframes' points, world frame.
+    pub fn points(&self) -> Vec<Point3<f64>> {
+        self.keyframes.iter().flatten().copied().collect()
+    }
+
     /// Points in the map.
     pub fn len(&self) -> usize {
         self.points
