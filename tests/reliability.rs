@@ -2,19 +2,14 @@
 //! (time, motion, units, scale) rather than a file's bytes. Frames come from the simulator
 //! (OS1-64, 512 columns: small and fast) and are edited before the pipeline sees them.
 
-use keylo::config::RawConfig;
+mod common;
+
 use keylo::{CoreError, FrameResult, LidarFrame, Odometry};
 
 const SOURCE: &str = "[source]\nkind = 'sim'\nscene = 'lab'\nsensor = 'os1-64'\ncolumns = 512\n";
 
-/// The lab simulator's `[source]` plus `extra`, resolved, with the registry it was resolved by.
 fn resolve(extra: &str) -> (keylo::Registry, keylo::config::PipelineConfig) {
-    let registry = keylo::registry();
-    let text = format!("{SOURCE}{extra}");
-    let config = registry
-        .resolve(&RawConfig::parse("test", &text).unwrap())
-        .unwrap();
-    (registry, config)
+    common::resolve(&format!("{SOURCE}{extra}"))
 }
 
 /// `n` simulated frames of the lab.

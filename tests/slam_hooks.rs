@@ -1,7 +1,8 @@
 //! The SLAM hooks of `Odometry` (issue 21): an external motion prior that rescues a frame the
 //! constant-velocity model loses, `reset`, `set_pose`, the local map, and bad priors.
 
-use keylo::config::RawConfig;
+mod common;
+
 use keylo::{LidarFrame, Odometry, Pose};
 use nalgebra::{Translation3, UnitQuaternion};
 
@@ -13,12 +14,7 @@ const SOURCE: &str = "[source]\nkind = 'sim'\nscene = 'corridor'\nsensor = 'os1-
                       speed_scale = 8\nmax_range_m = 20\n";
 
 fn resolve(extra: &str) -> (keylo::Registry, keylo::config::PipelineConfig) {
-    let registry = keylo::registry();
-    let text = format!("{SOURCE}{extra}");
-    let config = registry
-        .resolve(&RawConfig::parse("test", &text).unwrap())
-        .unwrap();
-    (registry, config)
+    common::resolve(&format!("{SOURCE}{extra}"))
 }
 
 /// `moving` frames of the corridor, then the sensor stops dead: `stopped` more frames seeing
