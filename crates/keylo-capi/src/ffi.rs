@@ -77,6 +77,36 @@ pub struct KeyloDegeneracy {
     pub residuals: u64,
 }
 
+/// Statistics of the last frame. It may grow: set `size` to `sizeof(KeyloFrameStats)` before
+/// `keylo_pipeline_stats`, which writes only the fields that fit.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default)]
+pub struct KeyloFrameStats {
+    /// In: the struct's size as the caller's header declares it; out: the bytes written.
+    pub size: u32,
+    /// Index of the frame (0 for the first pushed).
+    pub frame: u64,
+    /// Keypoints found over all images.
+    pub keypoints: u64,
+    /// Points the downsampler handed to the registrar.
+    pub cloud_points: u64,
+    /// Points the registrar aligned after its own downsampling (0: the pose was predicted).
+    pub registered_points: u64,
+    /// Points in the local map after the frame.
+    pub map_points: u64,
+    /// Solver iterations.
+    pub iterations: u64,
+    /// Whether the solver converged.
+    pub converged: bool,
+    /// Milliseconds in each stage: images, detection, description, downsampling,
+    /// registration.
+    pub image_ms: f64,
+    pub detect_ms: f64,
+    pub describe_ms: f64,
+    pub downsample_ms: f64,
+    pub register_ms: f64,
+}
+
 /// A keylo pipeline (opaque).
 pub struct KeyloPipeline {
     inner: Option<Embedded>,
@@ -391,6 +421,63 @@ pub unsafe extern "C" fn keylo_pipeline_set_pose(p: *mut KeyloPipeline, matrix: 
 #[no_mangle]
 pub unsafe extern "C" fn keylo_pipeline_reset(p: *mut KeyloPipeline) -> i32 {
     with(p, |e| e.reset())
+}
+
+/// Writes the last frame's statistics to `out` (its `size` set by the caller; at least the
+/// bytes up to and including `frame`). Returns 0, or -1 before the first frame or when `size`
+/// is too small.
+///
+/// # Safety
+/// `p` from `keylo_pipeline_new`; `out` points to `out->size` writable bytes.
+#[no_mangle]
+pub unsafe extern "C" fn keylo_pipeline_stats(
+    p: *mut KeyloPipeline,
+    out: *mut KeyloFrameStats,
+) -> i32 {
+    with(p, |e| {
+        if out.is_null() {
+            return Err(CapiError::Argument("out is NULL".into()));
+        }
+        // SAFETY: `size`, the first field, is readable per the contract.
+        let size = unsafe { std::ptr::addr_of!((*out).size).read_unaligned() } as usize;
+        let needed = std::mem::offset_of!(KeyloFrameStats, frame) + std::mem::size_of::<u64>();
+        if size < needed {
+            return Err(CapiError::Argument(format!(
+                "out->size = {size}: set it to sizeof(KeyloFrameStats) (at least {needed})"
+            )));
+        }
+        let r = e
+            .last()
+            .ok_or_else(|| CapiError::Argument("no frame processed yet".into()))?;
+        let ms = |s: f64| 1e3 * s;
+        let full = std::mem::size_of::<KeyloFrameStats>();
+        let written = size.min(full);
+        let stats = KeyloFrameStats {
+            size: written as u32,
+            frame: r.index,
+            keypoints: r.keypoints as u64,
+            cloud_points: r.cloud_points as u64,
+            registered_points: r.registered_points as u64,
+            map_points: r.map_points as u64,
+            iterations: r.iterations as u64,
+            converged: r.converged,
+            image_ms: ms(r.timings.image),
+            detect_ms: ms(r.timings.detect),
+            describe_ms: ms(r.timings.describe),
+            downsample_ms: ms(r.timings.downsample),
+            register_ms: ms(r.timings.register),
+        };
+        // SAFETY: `written` ≤ both the caller's buffer and the struct; a prefix of a repr(C)
+        // struct is a valid prefix of any later version of it.
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                (&stats as *const KeyloFrameStats).cast::<u8>(),
+                out.cast::<u8>(),
+                written,
+            );
+        }
+        Ok(())
+    })
 }
 
 /// Writes the last frame's pose to `out`. Returns 0, or -1 before the first frame.

@@ -103,6 +103,39 @@ fn hooks_work_and_refuse_what_is_not_rigid() {
     // SAFETY: written by the successful call.
     let pose = unsafe { pose.assume_init() };
     assert!(pose.translation[0] > 99.0, "{:?}", pose.translation);
+    // Per-frame statistics, in a struct that starts with its size.
+    let mut stats = KeyloFrameStats {
+        size: std::mem::size_of::<KeyloFrameStats>() as u32,
+        ..KeyloFrameStats::default()
+    };
+    // SAFETY: `stats` is writable and its size is set.
+    assert_eq!(
+        unsafe { keylo_pipeline_stats(p, &mut stats) },
+        KEYLO_CAPI_OK,
+        "{}",
+        error(p)
+    );
+    assert_eq!(stats.frame, 4);
+    assert!(
+        stats.cloud_points > 1000 && stats.registered_points > 0,
+        "{stats:?}"
+    );
+    assert!(stats.register_ms > 0.0 && stats.map_points > 0, "{stats:?}");
+    // An older, shorter struct gets only its fields; a size too small is refused.
+    let mut old = KeyloFrameStats {
+        size: 16,
+        ..KeyloFrameStats::default()
+    };
+    // SAFETY: 16 writable bytes at least.
+    assert_eq!(unsafe { keylo_pipeline_stats(p, &mut old) }, KEYLO_CAPI_OK);
+    assert_eq!((old.size, old.frame, old.cloud_points), (16, 4, 0));
+    old.size = 4;
+    // SAFETY: as above.
+    assert_eq!(
+        unsafe { keylo_pipeline_stats(p, &mut old) },
+        KEYLO_CAPI_ERROR
+    );
+    assert!(error(p).contains("out->size"), "{}", error(p));
     // Reset: no pose until the next frame, which starts at the identity.
     // SAFETY: a live pipeline.
     assert_eq!(unsafe { keylo_pipeline_reset(p) }, KEYLO_CAPI_OK);
