@@ -2,9 +2,10 @@
  * (`KEYLO_BLESS=1 cargo test -p keylo-capi --test header`); do not edit.
  *
  * Rules for every function:
- * - Threads: a pipeline is used by one thread at a time (calls on one handle from two
- *   threads at once are undefined); distinct pipelines are independent. keylo may use
- *   its own worker threads inside a call.
+ * - Threads: a pipeline is used by one thread at a time: a call made while another
+ *   thread is inside a call on the same pipeline returns KEYLO_CAPI_BUSY (-2) and does
+ *   nothing; keylo_pipeline_free waits for a running call. Distinct pipelines are
+ *   independent. keylo may use its own worker threads inside a call.
  * - Ownership: the caller owns what it passes in (keylo copies what it keeps) and frees
  *   a pipeline once, with keylo_pipeline_free; pointers keylo returns (error text, the
  *   cloud) stay valid until the next call on the same pipeline.
@@ -25,6 +26,10 @@
 
 // Failure: see `keylo_pipeline_error`.
 #define KEYLO_CAPI_ERROR -1
+
+// Refused: another thread is inside a call on the same pipeline (nothing was done, and the
+// error text is not changed). A pipeline is used by one thread at a time.
+#define KEYLO_CAPI_BUSY -2
 
 // `keylo_pipeline_degeneracy`: the last frame has no degeneracy analysis.
 #define KEYLO_CAPI_NOT_ANALYSED 1

@@ -7,6 +7,7 @@
 
 use std::ffi::{c_char, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use keylo::io::cloud::RawCloud;
@@ -111,12 +112,18 @@ pub struct KeyloFrameStats {
 pub struct KeyloPipeline {
     inner: Option<Embedded>,
     error: CString,
+    /// Set while a call runs on this pipeline: a call from a second thread meanwhile is
+    /// refused with `KEYLO_CAPI_BUSY` instead of racing.
+    busy: AtomicBool,
 }
 
 /// Success.
 pub const KEYLO_CAPI_OK: i32 = 0;
 /// Failure: see `keylo_pipeline_error`.
 pub const KEYLO_CAPI_ERROR: i32 = -1;
+/// Refused: another thread is inside a call on the same pipeline (nothing was done, and the
+/// error text is not changed). A pipeline is used by one thread at a time.
+pub const KEYLO_CAPI_BUSY: i32 = -2;
 /// `keylo_pipeline_degeneracy`: the last frame has no degeneracy analysis.
 pub const KEYLO_CAPI_NOT_ANALYSED: i32 = 1;
 
@@ -136,27 +143,47 @@ fn with(p: *mut KeyloPipeline, f: impl FnOnce(&mut Embedded) -> Result<(), CapiE
     if p.is_null() {
         return KEYLO_CAPI_ERROR;
     }
-    // SAFETY: a non-NULL pipeline comes from `keylo_pipeline_new` (the API's contract).
-    let p = unsafe { &mut *p };
-    let outcome = match p.inner.as_mut() {
+    // SAFETY: a non-NULL pipeline comes from `keylo_pipeline_new` (the API's contract); only
+    // the atomic flag is touched before this thread owns the pipeline.
+    let busy = unsafe { &(*p).busy };
+    if busy
+        .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+        .is_err()
+    {
+        return KEYLO_CAPI_BUSY;
+    }
+    let code = with_owned(p, f);
+    busy.store(false, Ordering::Release);
+    code
+}
+
+/// [`with`] once this thread holds the pipeline's `busy` flag.
+fn with_owned(
+    p: *mut KeyloPipeline,
+    f: impl FnOnce(&mut Embedded) -> Result<(), CapiError>,
+) -> i32 {
+    // SAFETY: non-NULL (checked by `with`), and no other thread is inside a call on it. Only
+    // the fields this call changes are borrowed: other threads may read `busy` meanwhile.
+    let (inner, error) = unsafe { (&mut (*p).inner, &mut (*p).error) };
+    let outcome = match inner.as_mut() {
         None => Err(CapiError::Argument(
             "the pipeline failed earlier; free it".into(),
         )),
-        Some(inner) => match catch_unwind(AssertUnwindSafe(|| f(inner))) {
+        Some(e) => match catch_unwind(AssertUnwindSafe(|| f(e))) {
             Ok(r) => r,
-            Err(e) => {
-                p.inner = None;
-                Err(CapiError::Panic(panic_text(e)))
+            Err(panic) => {
+                *inner = None;
+                Err(CapiError::Panic(panic_text(panic)))
             }
         },
     };
     match outcome {
         Ok(()) => {
-            p.error = CString::default();
+            *error = CString::default();
             KEYLO_CAPI_OK
         }
         Err(e) => {
-            p.error = to_cstring(&e.to_string());
+            *error = to_cstring(&e.to_string());
             KEYLO_CAPI_ERROR
         }
     }
@@ -205,6 +232,7 @@ pub unsafe extern "C" fn keylo_pipeline_new(
         Ok(inner) => Box::into_raw(Box::new(KeyloPipeline {
             inner: Some(inner),
             error: CString::default(),
+            busy: AtomicBool::new(false),
         })),
         Err(e) => {
             if !error.is_null() && error_len > 0 {
@@ -597,7 +625,12 @@ pub unsafe extern "C" fn keylo_pipeline_error(p: *const KeyloPipeline) -> *const
         return c"pipeline is NULL".as_ptr();
     }
     // SAFETY: from `keylo_pipeline_new` per the contract.
-    unsafe { &*p }.error.as_ptr()
+    let busy = unsafe { &(*p).busy };
+    if busy.load(Ordering::Acquire) {
+        return c"the pipeline is busy in another thread".as_ptr();
+    }
+    // SAFETY: as above; no call is running, so nothing writes the text.
+    unsafe { &(*p).error }.as_ptr()
 }
 
 /// Frees a pipeline (NULL is allowed).
@@ -607,6 +640,15 @@ pub unsafe extern "C" fn keylo_pipeline_error(p: *const KeyloPipeline) -> *const
 #[no_mangle]
 pub unsafe extern "C" fn keylo_pipeline_free(p: *mut KeyloPipeline) {
     if !p.is_null() {
+        // A call still running in another thread finishes first.
+        // SAFETY: from `keylo_pipeline_new`, not freed yet per the contract.
+        let busy = unsafe { &(*p).busy };
+        while busy
+            .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+            .is_err()
+        {
+            std::thread::yield_now();
+        }
         let _ = catch_unwind(AssertUnwindSafe(|| {
             // SAFETY: from `keylo_pipeline_new`, freed once per the contract.
             drop(unsafe { Box::from_raw(p) });

@@ -12,9 +12,10 @@ fn generate() -> String {
              * (`KEYLO_BLESS=1 cargo test -p keylo-capi --test header`); do not edit.\n \
              *\n \
              * Rules for every function:\n \
-             * - Threads: a pipeline is used by one thread at a time (calls on one handle from two\n \
-             *   threads at once are undefined); distinct pipelines are independent. keylo may use\n \
-             *   its own worker threads inside a call.\n \
+             * - Threads: a pipeline is used by one thread at a time: a call made while another\n \
+             *   thread is inside a call on the same pipeline returns KEYLO_CAPI_BUSY (-2) and does\n \
+             *   nothing; keylo_pipeline_free waits for a running call. Distinct pipelines are\n \
+             *   independent. keylo may use its own worker threads inside a call.\n \
              * - Ownership: the caller owns what it passes in (keylo copies what it keeps) and frees\n \
              *   a pipeline once, with keylo_pipeline_free; pointers keylo returns (error text, the\n \
              *   cloud) stay valid until the next call on the same pipeline.\n \

@@ -157,3 +157,61 @@ fn hooks_work_and_refuse_what_is_not_rigid() {
         keylo_pipeline_free(p);
     }
 }
+
+/// A call made while another thread is inside a call on the same pipeline gets
+/// `KEYLO_CAPI_BUSY` and does nothing: never a race. A caller that retries gets through.
+#[test]
+fn two_threads_on_one_pipeline_get_busy_not_a_race() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let toml = c"[registrar]\nkind = \"kiss-icp\"\nmax_range = 30.0\n";
+    // SAFETY: valid strings; no error buffer.
+    let p = unsafe { keylo_pipeline_new(toml.as_ptr(), std::ptr::null(), std::ptr::null_mut(), 0) };
+    assert!(!p.is_null());
+    let handle = p as usize;
+    let done = std::sync::Arc::new(AtomicBool::new(false));
+    let flag = std::sync::Arc::clone(&done);
+    let worker = std::thread::spawn(move || {
+        let p = handle as *mut KeyloPipeline;
+        let (mut codes, mut refused) = (Vec::new(), 0);
+        for k in 0..20 {
+            loop {
+                match push(p, k) {
+                    KEYLO_CAPI_BUSY => refused += 1,
+                    code => {
+                        codes.push(code);
+                        break;
+                    }
+                }
+                std::thread::yield_now();
+            }
+        }
+        flag.store(true, Ordering::SeqCst);
+        (codes, refused)
+    });
+    let (mut busy, mut other) = (0, Vec::new());
+    while !done.load(Ordering::SeqCst) {
+        let mut stats = KeyloFrameStats {
+            size: std::mem::size_of::<KeyloFrameStats>() as u32,
+            ..KeyloFrameStats::default()
+        };
+        // SAFETY: a live pipeline; `stats` writable.
+        match unsafe { keylo_pipeline_stats(p, &mut stats) } {
+            KEYLO_CAPI_BUSY => busy += 1,
+            code => other.push(code),
+        }
+        std::thread::yield_now();
+    }
+    let (codes, refused) = worker.join().unwrap();
+    assert!(codes.iter().all(|&c| c == KEYLO_CAPI_OK), "{codes:?}");
+    // Between the worker's calls the pipeline is free: OK, or ERROR before its first frame.
+    let expected = |c: &i32| *c == KEYLO_CAPI_OK || *c == KEYLO_CAPI_ERROR;
+    assert!(other.iter().all(expected), "{other:?}");
+    let total = busy + refused;
+    assert!(
+        total > 0,
+        "neither thread found it busy ({} other calls)",
+        other.len()
+    );
+    // SAFETY: no call is running any more.
+    unsafe { keylo_pipeline_free(p) };
+}
