@@ -114,39 +114,16 @@ impl Projector {
             .map(|(i, p)| self.locate(cloud, rings, i, p))
             .collect();
         let mut f = LidarFrame::empty(index, cloud.timestamp, rows, cols, Arc::clone(&self.beams));
-        let period = (self.grid.frame_rate_hz > 0.0).then(|| 1.0 / self.grid.frame_rate_hz);
+        let period = self.period();
         let kept = located.iter().filter(|l| l.pixel != DROPPED).count();
-        let mut scan = ScanPoints {
-            pixel_to_point: vec![ScanPoints::NONE; rows * cols],
-            points: Vec::with_capacity(kept),
-            source_index: Vec::with_capacity(kept),
-            pixel: Vec::with_capacity(kept),
-            ..ScanPoints::default()
-        };
-        let mut times =
-            (cloud.time.is_some() || period.is_some()).then(|| Vec::with_capacity(kept));
-        let mut intensity = cloud.intensity.as_ref().map(|_| Vec::with_capacity(kept));
-        let mut ring_out = cloud.ring.as_ref().map(|_| Vec::with_capacity(kept));
+        let mut scan = self.empty_scan(cloud, kept, rows * cols);
         let mut time_samples = Vec::new();
         for (i, l) in located.iter().enumerate() {
             if l.pixel == DROPPED {
                 continue;
             }
-            let k = scan.points.len() as u32;
-            scan.points.push(Point3::from(l.xyz));
-            scan.source_index.push(i as u32);
-            scan.pixel.push(l.pixel);
-            if let (Some(out), Some(v)) = (intensity.as_mut(), cloud.intensity.as_ref()) {
-                out.push(v[i]);
-            }
-            if let (Some(out), Some(r)) = (ring_out.as_mut(), cloud.ring.as_ref()) {
-                out.push(r[i]);
-            }
+            let k = self.push_point(&mut scan, cloud, i, l.xyz, l.pixel, || l.col as usize);
             let file_time = cloud.time.as_ref().map(|t| t[i]);
-            if let Some(out) = times.as_mut() {
-                let spread = || period.unwrap_or(0.0) * f64::from(l.col) / cols as f64;
-                out.push(file_time.unwrap_or_else(spread));
-            }
             if l.pixel == ScanPoints::NONE {
                 continue;
             }
@@ -165,9 +142,6 @@ impl Projector {
             f.near_ir[pixel] = channel_value(cloud.near_ir.as_deref(), i);
             scan.pixel_to_point[pixel] = k;
         }
-        scan.times = times;
-        scan.intensity = intensity;
-        scan.ring = ring_out;
         f.column_times = if cloud.time.is_some() {
             column_times(cloud.timestamp, cols, time_samples.into_iter())
         } else if let Some(period) = period {
@@ -188,73 +162,92 @@ impl Projector {
     /// intensities and rings, none of them in a pixel.
     fn points_only(&self, cloud: &RawCloud, index: u64) -> LidarFrame {
         let cols = self.grid.cols;
-        let period = (self.grid.frame_rate_hz > 0.0).then(|| 1.0 / self.grid.frame_rate_hz);
-        let n = cloud.len();
-        let mut scan = ScanPoints {
-            points: Vec::with_capacity(n),
-            source_index: Vec::with_capacity(n),
-            ..ScanPoints::default()
-        };
-        let mut times = (cloud.time.is_some() || period.is_some()).then(|| Vec::with_capacity(n));
-        let mut intensity = cloud.intensity.as_ref().map(|_| Vec::with_capacity(n));
-        let mut ring = cloud.ring.as_ref().map(|_| Vec::with_capacity(n));
+        let mut scan = self.empty_scan(cloud, cloud.len(), 0);
         for (i, p) in cloud.points.iter().enumerate() {
-            let file_time = cloud.time.as_ref().map(|t| t[i]);
-            let mut v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
-            if file_time.is_some_and(|t| !t.is_finite()) || !v.iter().all(|x| x.is_finite()) {
-                continue;
-            }
-            if let Some(c) = &self.correction {
-                v = c.apply(v);
-                if !v.iter().all(|x| x.is_finite()) {
-                    continue;
-                }
-            }
-            scan.points.push(Point3::from(v));
-            scan.source_index.push(i as u32);
-            if let Some(out) = times.as_mut() {
-                out.push(file_time.unwrap_or_else(|| {
-                    let col = azimuth_column(v[0], v[1], cols);
-                    period.unwrap_or(0.0) * col as f64 / cols as f64
-                }));
-            }
-            if let (Some(out), Some(src)) = (intensity.as_mut(), cloud.intensity.as_ref()) {
-                out.push(src[i]);
-            }
-            if let (Some(out), Some(src)) = (ring.as_mut(), cloud.ring.as_ref()) {
-                out.push(src[i]);
+            if let Some(v) = self.corrected(cloud, i, p) {
+                let col = || azimuth_column(v[0], v[1], cols);
+                self.push_point(&mut scan, cloud, i, v, ScanPoints::NONE, col);
             }
         }
-        scan.pixel = vec![ScanPoints::NONE; scan.points.len()];
-        scan.times = times;
-        scan.intensity = intensity;
-        scan.ring = ring;
         let mut f = LidarFrame::empty(index, cloud.timestamp, 0, 0, Arc::clone(&self.beams));
         f.scan = Some(Arc::new(scan));
         f
+    }
+
+    /// Revolution time when the grid knows the rate (points without a time of their own are
+    /// then timed by azimuth).
+    fn period(&self) -> Option<f64> {
+        (self.grid.frame_rate_hz > 0.0).then(|| 1.0 / self.grid.frame_rate_hz)
+    }
+
+    /// A scan with room for `n` points, the per-point fields `cloud` has (times also when
+    /// they are spread by azimuth) and a grid of `pixels` empty pixels.
+    fn empty_scan(&self, cloud: &RawCloud, n: usize, pixels: usize) -> ScanPoints {
+        let timed = cloud.time.is_some() || self.period().is_some();
+        ScanPoints {
+            points: Vec::with_capacity(n),
+            times: timed.then(|| Vec::with_capacity(n)),
+            intensity: cloud.intensity.as_ref().map(|_| Vec::with_capacity(n)),
+            ring: cloud.ring.as_ref().map(|_| Vec::with_capacity(n)),
+            source_index: Vec::with_capacity(n),
+            pixel: Vec::with_capacity(n),
+            pixel_to_point: vec![ScanPoints::NONE; pixels],
+        }
+    }
+
+    /// Appends point `i` of `cloud` (coordinates `xyz`, in `pixel`) to `scan`; without a time
+    /// field its time is that of its azimuth column (`col`, asked only then). Returns its
+    /// index in the scan.
+    fn push_point(
+        &self,
+        scan: &mut ScanPoints,
+        cloud: &RawCloud,
+        i: usize,
+        xyz: [f64; 3],
+        pixel: u32,
+        col: impl FnOnce() -> usize,
+    ) -> u32 {
+        let k = scan.points.len() as u32;
+        scan.points.push(Point3::from(xyz));
+        scan.source_index.push(i as u32);
+        scan.pixel.push(pixel);
+        if let (Some(out), Some(v)) = (scan.intensity.as_mut(), cloud.intensity.as_ref()) {
+            out.push(v[i]);
+        }
+        if let (Some(out), Some(r)) = (scan.ring.as_mut(), cloud.ring.as_ref()) {
+            out.push(r[i]);
+        }
+        if let Some(out) = scan.times.as_mut() {
+            let spread = || self.period().unwrap_or(0.0) * col() as f64 / self.grid.cols as f64;
+            out.push(cloud.time.as_ref().map_or_else(spread, |t| t[i]));
+        }
+        k
+    }
+
+    /// Point `i` (`p`) of `cloud` in double precision and corrected; `None` for a point with
+    /// a non-finite coordinate or time (before or after the correction).
+    fn corrected(&self, cloud: &RawCloud, i: usize, p: &[f32; 3]) -> Option<[f64; 3]> {
+        let time_ok = cloud.time.as_ref().is_none_or(|t| t[i].is_finite());
+        let v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
+        if !time_ok || !v.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let v = self.correction.as_ref().map_or(v, |c| c.apply(v));
+        v.iter().all(|x| x.is_finite()).then_some(v)
     }
 
     /// Where point `i` (`p`) of `cloud` goes: [`DROPPED`] for a point with a non-finite
     /// coordinate or time (before or after the correction), [`ScanPoints::NONE`] for one
     /// outside the grid.
     fn locate(&self, cloud: &RawCloud, rings: Option<&[u16]>, i: usize, p: &[f32; 3]) -> Located {
-        let dropped = Located {
-            xyz: [0.0; 3],
-            pixel: DROPPED,
-            col: 0,
-            range: 0.0,
+        let Some(v) = self.corrected(cloud, i, p) else {
+            return Located {
+                xyz: [0.0; 3],
+                pixel: DROPPED,
+                col: 0,
+                range: 0.0,
+            };
         };
-        let time_ok = cloud.time.as_ref().is_none_or(|t| t[i].is_finite());
-        let mut v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
-        if !time_ok || !v.iter().all(|x| x.is_finite()) {
-            return dropped;
-        }
-        if let Some(c) = &self.correction {
-            v = c.apply(v);
-            if !v.iter().all(|x| x.is_finite()) {
-                return dropped;
-            }
-        }
         let cols = self.grid.cols;
         let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         let col = azimuth_column(v[0], v[1], cols);
