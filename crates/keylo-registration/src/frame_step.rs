@@ -1,6 +1,7 @@
 //! What every registrar does around its own alignment: refuse clouds with non-finite
-//! values, run the work in the registrar's own thread pool when it has one, deskew and
-//! range-filter the scan, and stamp the result with the time of the cloud's last point.
+//! values and external priors or poses that are not rigid, run the work in the registrar's
+//! own thread pool when it has one, deskew and range-filter the scan, and stamp the result
+//! with the time of the cloud's last point.
 
 use keylo_core::{CoreError, PointCloud};
 use nalgebra::{Isometry3, Point3};
@@ -127,4 +128,42 @@ pub(crate) fn end_stamp(cloud: &PointCloud) -> f64 {
         .and_then(|t| t.iter().copied().reduce(f64::max))
         .unwrap_or(0.0);
     cloud.timestamp + end
+}
+
+/// Refuses a motion prior that is not rigid or steps beyond `bound` (m; 0: no bound).
+pub(crate) fn check_prior(delta: &Isometry3<f64>, bound: f64) -> Result<(), CoreError> {
+    check_rigid(delta, "motion prior")?;
+    let step = delta.translation.vector.norm();
+    if bound > 0.0 && step > bound {
+        return Err(CoreError::stage(
+            "registrar",
+            format!(
+                "motion prior: a step of {step:.3} m is beyond `max_motion_per_frame` = {bound} m"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Refuses a transform with a non-finite value or a rotation quaternion off unit length (it
+/// would not be rigid).
+pub(crate) fn check_rigid(t: &Isometry3<f64>, what: &str) -> Result<(), CoreError> {
+    let finite = t
+        .translation
+        .vector
+        .iter()
+        .chain(t.rotation.coords.iter())
+        .all(|v| v.is_finite());
+    let norm = t.rotation.coords.norm();
+    if !finite || (norm - 1.0).abs() > 1e-6 {
+        return Err(CoreError::stage(
+            "registrar",
+            format!(
+                "{what}: not a rigid transform (translation {:?}, quaternion norm {norm}); \
+                 expected finite values and a unit quaternion",
+                t.translation.vector.as_slice()
+            ),
+        ));
+    }
+    Ok(())
 }

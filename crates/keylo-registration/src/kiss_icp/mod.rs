@@ -448,7 +448,7 @@ impl Registrar for KissIcp {
     }
 
     fn set_motion_prior(&mut self, delta: &Isometry3<f64>) -> Result<(), CoreError> {
-        check_prior(delta, self.config.max_motion_per_frame)?;
+        frame_step::check_prior(delta, self.config.max_motion_per_frame)?;
         self.prior = Some(*delta);
         Ok(())
     }
@@ -459,7 +459,7 @@ impl Registrar for KissIcp {
     }
 
     fn set_pose(&mut self, pose: &Isometry3<f64>) -> Result<(), CoreError> {
-        check_rigid(pose, "pose")?;
+        frame_step::check_rigid(pose, "pose")?;
         self.last_pose = *pose;
         Ok(())
     }
@@ -467,42 +467,4 @@ impl Registrar for KissIcp {
     fn local_map(&self) -> Vec<Point3<f64>> {
         self.map.points()
     }
-}
-
-/// Refuses a motion prior that is not rigid or steps beyond `bound` (m; 0: no bound).
-pub(crate) fn check_prior(delta: &Isometry3<f64>, bound: f64) -> Result<(), CoreError> {
-    check_rigid(delta, "motion prior")?;
-    let step = delta.translation.vector.norm();
-    if bound > 0.0 && step > bound {
-        return Err(CoreError::stage(
-            "registrar",
-            format!(
-                "motion prior: a step of {step:.3} m is beyond `max_motion_per_frame` = {bound} m"
-            ),
-        ));
-    }
-    Ok(())
-}
-
-/// Refuses a transform with a non-finite value or a rotation quaternion off unit length (it
-/// would not be rigid).
-pub(crate) fn check_rigid(t: &Isometry3<f64>, what: &str) -> Result<(), CoreError> {
-    let finite = t
-        .translation
-        .vector
-        .iter()
-        .chain(t.rotation.coords.iter())
-        .all(|v| v.is_finite());
-    let norm = t.rotation.coords.norm();
-    if !finite || (norm - 1.0).abs() > 1e-6 {
-        return Err(CoreError::stage(
-            "registrar",
-            format!(
-                "{what}: not a rigid transform (translation {:?}, quaternion norm {norm}); \
-                 expected finite values and a unit quaternion",
-                t.translation.vector.as_slice()
-            ),
-        ));
-    }
-    Ok(())
 }

@@ -191,7 +191,7 @@ impl Registrar for Ndt {
     }
 
     fn set_motion_prior(&mut self, delta: &Isometry3<f64>) -> Result<(), CoreError> {
-        crate::kiss_icp::check_prior(delta, self.config.max_motion_per_frame)?;
+        frame_step::check_prior(delta, self.config.max_motion_per_frame)?;
         self.prior = Some(*delta);
         Ok(())
     }
@@ -202,7 +202,7 @@ impl Registrar for Ndt {
     }
 
     fn set_pose(&mut self, pose: &Isometry3<f64>) -> Result<(), CoreError> {
-        crate::kiss_icp::check_rigid(pose, "pose")?;
+        frame_step::check_rigid(pose, "pose")?;
         self.last_pose = *pose;
         Ok(())
     }
