@@ -262,13 +262,7 @@ impl LidarFrame {
     /// the cloud.
     pub fn count_selected(&self, pixels: &[usize], mode: PixelPoints) -> usize {
         match (&self.scan, mode) {
-            (Some(scan), PixelPoints::All) => {
-                let mask = self.pixel_mask(pixels);
-                scan.pixel
-                    .iter()
-                    .filter(|&&p| mask.get(p as usize).copied().unwrap_or(false))
-                    .count()
-            }
+            (Some(scan), PixelPoints::All) => scan.count_in(&self.pixel_mask(pixels)),
             _ => pixels
                 .iter()
                 .filter(|&&i| self.valid[i] && self.points[i].coords.iter().all(|v| v.is_finite()))

@@ -93,12 +93,20 @@ impl ScanPoints {
     /// Indices of the points whose pixel is set in `mask` (row-major, one flag per pixel),
     /// in file order.
     pub fn points_in(&self, mask: &[bool]) -> Vec<usize> {
+        self.iter_in(mask).collect()
+    }
+
+    /// How many points [`Self::points_in`] gives for `mask`, without collecting them.
+    pub fn count_in(&self, mask: &[bool]) -> usize {
+        self.iter_in(mask).count()
+    }
+
+    fn iter_in<'a>(&'a self, mask: &'a [bool]) -> impl Iterator<Item = usize> + 'a {
         self.pixel
             .iter()
             .enumerate()
             .filter(|(_, &p)| p != Self::NONE && mask.get(p as usize).copied().unwrap_or(false))
             .map(|(i, _)| i)
-            .collect()
     }
 
     /// How many pixels hold at least one point, and how many points share a pixel with a
@@ -174,6 +182,7 @@ mod tests {
     fn points_in_a_mask_come_in_file_order() {
         let s = scan();
         assert_eq!(s.points_in(&[true, false, true]), vec![0, 1, 3]);
+        assert_eq!(s.count_in(&[true, false, true]), 3);
         assert_eq!(s.points_in(&[false, true, false]), Vec::<usize>::new());
         assert!(s.check(3).is_ok());
     }

@@ -71,9 +71,9 @@ impl Downsampler for KeypointNeighbourhood {
         let pixels = select_pixels(frame, features, &self.sizes, self.config.mapping)
             .map_err(|e| e.in_stage("downsampler"))?;
         let mode = self.config.pixel_points;
-        let selected = frame.count_selected(&pixels, mode);
-        if selected >= self.config.min_points {
-            return Ok(frame.cloud_of_selected(&pixels, mode));
+        let selected = frame.cloud_of_selected(&pixels, mode);
+        if selected.len() >= self.config.min_points {
+            return Ok(selected);
         }
         match self.config.on_too_few {
             TooFew::AllPoints => Ok(frame.cloud(mode)),
@@ -83,7 +83,7 @@ impl Downsampler for KeypointNeighbourhood {
                     "too few points: the keypoint windows selected {} valid points from {} \
                      keypoints, fewer than downsampler.min_points = {} (set \
                      downsampler.on_too_few = \"all-points\" to register the whole frame instead)",
-                    selected,
+                    selected.len(),
                     features.keypoint_count(),
                     self.config.min_points
                 ),
