@@ -114,12 +114,7 @@ fn param_rows(out: &mut String, prefix: &str, node: &Value, root: &Value, defaul
         }
     }
     // Optional keys without a default of their own (they follow another key).
-    let unset = props
-        .and_then(Value::as_object)
-        .into_iter()
-        .flatten()
-        .filter(|(k, _)| !defaults.contains_key(k.as_str()));
-    for (key, field) in unset {
+    for (key, field) in keylo::config::unset_keys(props, defaults) {
         let doc = field
             .get("description")
             .and_then(Value::as_str)

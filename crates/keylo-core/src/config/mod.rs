@@ -13,7 +13,7 @@ mod resolve;
 pub use output::{OnBadFrame, OutputConfig};
 pub use plugins::PluginsConfig;
 pub use raw::RawConfig;
-pub use render::{allowed_values, render_resolved, resolve_ref};
+pub use render::{allowed_values, render_resolved, resolve_ref, unset_keys};
 
 use std::path::PathBuf;
 

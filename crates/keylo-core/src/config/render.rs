@@ -129,7 +129,7 @@ pub fn allowed_values(field: &Value, root: &Value) -> Vec<String> {
 }
 
 /// The schema's properties that `table` does not hold (optional keys left unset).
-pub(crate) fn unset_keys<'a>(
+pub fn unset_keys<'a>(
     props: Option<&'a Value>,
     table: &'a toml::Table,
 ) -> impl Iterator<Item = (&'a String, &'a Value)> {
