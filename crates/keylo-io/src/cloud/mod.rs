@@ -7,7 +7,7 @@ mod azimuth;
 mod correction;
 pub mod organised;
 pub mod projection;
-mod projection_config;
+pub(crate) mod projection_config;
 mod raw;
 mod rows;
 mod sensors;

@@ -74,6 +74,11 @@ impl Projector {
         self
     }
 
+    /// The grid the clouds are projected onto.
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
     /// The beam geometry every projected frame carries.
     pub fn beams(&self) -> &Arc<BeamGeometry> {
         &self.beams

@@ -124,12 +124,7 @@ impl ProjectionConfig {
                     "projection: fov_up_deg = {up} and fov_down_deg = {down}; expected -90 <= down < up <= 90"
                 ));
             }
-            let step = if rows > 1 {
-                (up - down) / (rows - 1) as f64
-            } else {
-                0.0
-            };
-            (0..rows).map(|r| up - r as f64 * step).collect()
+            even_altitudes(up, down, rows)
         } else {
             let mut a = table;
             a.sort_by(|x, y| y.total_cmp(x));
@@ -151,6 +146,16 @@ impl ProjectionConfig {
             frame_rate_hz: self.frame_rate_hz,
         })
     }
+}
+
+/// `rows` elevations from `up` down to `down`, evenly spaced (degrees, top first).
+pub(crate) fn even_altitudes(up: f64, down: f64, rows: usize) -> Vec<f64> {
+    let step = if rows > 1 {
+        (up - down) / (rows - 1) as f64
+    } else {
+        0.0
+    };
+    (0..rows).map(|r| up - r as f64 * step).collect()
 }
 
 #[cfg(test)]

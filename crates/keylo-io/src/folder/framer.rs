@@ -5,14 +5,14 @@ use std::sync::Arc;
 
 use keylo_core::{BeamGeometry, LidarFrame};
 
+use crate::cloud::projection_config::even_altitudes;
 use crate::cloud::{
-    organised, Grid, ProjectionConfig, Projector, RawCloud, Sensor, VerticalAngleCorrection,
+    organised, ProjectionConfig, Projector, RawCloud, Sensor, VerticalAngleCorrection,
 };
 
 /// Turns the clouds of one sequence into frames.
 #[derive(Debug, Clone)]
 pub struct Framer {
-    grid: Grid,
     projector: Projector,
     /// Beams of organised clouds, per grid shape seen last.
     organised: Option<((usize, usize), Arc<BeamGeometry>)>,
@@ -24,8 +24,7 @@ impl Framer {
     pub fn new(config: &ProjectionConfig, source_default: Sensor) -> Result<Self, String> {
         let grid = config.resolve(source_default)?;
         Ok(Self {
-            projector: Projector::new(grid.clone()),
-            grid,
+            projector: Projector::new(grid),
             organised: None,
         })
     }
@@ -62,7 +61,8 @@ impl Framer {
                 return Arc::clone(beams);
             }
         }
-        let table = &self.grid.altitudes_deg;
+        let grid = self.projector.grid();
+        let table = &grid.altitudes_deg;
         let altitudes = if table.len() == rows {
             table.clone()
         } else {
@@ -70,20 +70,15 @@ impl Framer {
                 table.first().copied().unwrap_or(0.0),
                 table.last().copied().unwrap_or(0.0),
             );
-            let step = if rows > 1 {
-                (up - down) / (rows - 1) as f64
-            } else {
-                0.0
-            };
-            (0..rows).map(|r| up - r as f64 * step).collect()
+            even_altitudes(up, down, rows)
         };
         let beams = Arc::new(BeamGeometry {
-            model: self.grid.model.clone(),
+            model: grid.model.clone(),
             azimuth_deg: vec![0.0; rows],
             altitude_deg: altitudes,
             origin_to_beam_mm: 0.0,
             columns_per_frame: cols,
-            frame_rate_hz: self.grid.frame_rate_hz,
+            frame_rate_hz: grid.frame_rate_hz,
         });
         self.organised = Some(((rows, cols), Arc::clone(&beams)));
         beams
