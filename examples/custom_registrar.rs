@@ -1,6 +1,6 @@
-//! A registrar of your own crate, used by keylo's pipeline like a built-in one: no plugin, no C
-//! ABI. This toy aligns scan centroids (translation only); a real one would do better, the
-//! wiring is the same.
+//! A registrar of your own crate, used by keylo's pipeline like a built-in one (named by kind
+//! in TOML, or by its typed config in code): no plugin, no C ABI. This toy aligns scan
+//! centroids (translation only); a real one would do better, the wiring is the same.
 //!
 //! `cargo run --example custom_registrar`
 
@@ -56,7 +56,7 @@ impl Registrar for Centroid {
 pub fn registry() -> keylo::Registry {
     let mut registry = keylo::registry();
     registry.registrars.add::<CentroidConfig>(
-        "centroid",
+        <CentroidConfig as keylo::config::StageParams>::KIND,
         "scan-centroid tracking (an example of a user-defined registrar)",
         |c: CentroidConfig, _ctx: &BuildContext| {
             let gain = if c.gain == 0.0 { 1.0 } else { c.gain };
@@ -66,41 +66,43 @@ pub fn registry() -> keylo::Registry {
     registry
 }
 
+keylo::stage_params!(CentroidConfig => "centroid" as RegistrarParams);
+
 /// Runs `toml` (any config naming `kind = "centroid"`) with the extended registry; returns
 /// the x of every pose.
-pub fn run(toml: &str) -> Result<Vec<f64>, CoreError> {
-    let registry = registry();
+pub fn run(toml: &str) -> Result<Vec<f64>, keylo::Error> {
     let raw = keylo::config::RawConfig::parse("custom_registrar", toml)?;
-    let config = registry.resolve(&raw)?;
-    let mut odometry = keylo::Odometry::build(&config, &registry)?;
+    let frontend = keylo::Frontend::from_raw(raw, registry())?;
+    walk(frontend)
+}
+
+/// The same registrar from its typed config, with no TOML at all.
+pub fn run_typed(gain: f64) -> Result<Vec<f64>, keylo::Error> {
+    let frontend = keylo::Frontend::builder()
+        .registry(registry())
+        .registrar(&CentroidConfig { gain })
+        .build()?;
+    walk(frontend)
+}
+
+/// Five scans of a wall 10 m ahead, coming 0.5 m closer every frame; the x of every pose.
+fn walk(mut frontend: keylo::Frontend) -> Result<Vec<f64>, keylo::Error> {
     let mut xs = Vec::new();
     for k in 0..5 {
-        // A wall 10 m ahead, coming 0.5 m closer every frame.
-        let x = 10.0 - 0.5 * k as f64;
-        let points = (0..200)
-            .map(|i| Point3::new(x, f64::from(i) * 0.05 - 5.0, 0.0))
+        let x = 10.0 - 0.5 * f64::from(k);
+        let wall: Vec<[f64; 3]> = (0..200)
+            .map(|i| [x, f64::from(i) * 0.05 - 5.0, 0.0])
             .collect();
-        let mut frame = keylo::LidarFrame::empty(
-            k,
-            k as f64 * 0.1,
-            0,
-            0,
-            std::sync::Arc::new(keylo::BeamGeometry::unknown("example", 0)),
-        );
-        frame.scan = Some(std::sync::Arc::new(keylo::ScanPoints {
-            source_index: (0..200).collect(),
-            pixel: vec![keylo::ScanPoints::NONE; 200],
-            points,
-            ..keylo::ScanPoints::default()
-        }));
-        xs.push(odometry.process(&frame)?.pose.translation.x);
+        let out = frontend.push_points(f64::from(k) * 0.1, &wall, None)?;
+        xs.push(out.pose().translation.x);
     }
     Ok(xs)
 }
 
 #[allow(dead_code)] // a test includes this file as a module
-fn main() -> Result<(), CoreError> {
+fn main() -> Result<(), keylo::Error> {
     let xs = run("[registrar]\nkind = \"centroid\"\n")?;
     println!("x per frame: {xs:?}");
+    println!("gain 2, typed: {:?}", run_typed(2.0)?);
     Ok(())
 }

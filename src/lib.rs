@@ -5,6 +5,10 @@
 //! `plugins`; all on by default). Without them (`default-features = false`) keylo builds
 //! without OpenCV, libclang or ONNX Runtime: KISS-ICP, NDT and hybrid registration, the
 //! Ouster, KITTI, PLY/PCD and frame-folder readers, and evaluation.
+//!
+//! Embedding keylo in your own loop (a SLAM front end): [`Frontend`], built from TOML
+//! ([`Frontend::from_toml`]) or typed configs ([`Frontend::builder`]); see
+//! `docs/embedding.md` and the `examples/` folder.
 
 pub use keylo_core as core;
 pub use keylo_eval as eval;
@@ -20,6 +24,10 @@ pub use keylo_registration as registration;
 pub use keylo_sim as sim;
 
 pub use keylo_core::*;
+
+mod frontend;
+
+pub use frontend::{DescriptorRow, Error, FrameOutput, Frontend, FrontendBuilder, KeypointView};
 
 /// A registry holding every built-in backend of the enabled keylo crates.
 pub fn registry() -> keylo_core::Registry {

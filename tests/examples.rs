@@ -38,4 +38,7 @@ fn a_user_registrar_runs_in_the_pipeline() {
         .unwrap()
         .to_string();
     assert!(e.contains("gains"), "{e}");
+    // From its typed config: gain 2 doubles every step.
+    let xs = custom_registrar::run_typed(2.0).unwrap();
+    assert!((xs[4] - 4.0).abs() < 1e-9, "{xs:?}");
 }

@@ -82,7 +82,7 @@ int main(int argc, char **argv) {
     KeyloPipeline *p = keylo_pipeline_new(toml, NULL, error, sizeof error);
     free(toml);
     if (!p) { fprintf(stderr, "keylo_pipeline_new: %s\n", error); return 1; }
-    KeyloPose pose;
+    KeyloPose pose = {.size = sizeof pose};
     if (keylo_pipeline_pose(p, &pose) == KEYLO_CAPI_OK) { fprintf(stderr, "a pose before any frame\n"); return 1; }
     int frames = atoi(argv[3]), points = strcmp(argv[4], "points") == 0;
     printf("keylo %s\n", keylo_version());
@@ -95,7 +95,8 @@ int main(int argc, char **argv) {
         if (points) {
             rc = push_points(p, &fr);
         } else {
-            KeyloFrameIn in = {fr.timestamp, fr.rows, fr.cols, fr.column_times, fr.xyz, NULL, fr.signal, NULL, NULL, fr.valid};
+            KeyloFrameIn in = {.size = sizeof in, .rows = fr.rows, .cols = fr.cols, .timestamp = fr.timestamp,
+                               .column_times = fr.column_times, .xyz = fr.xyz, .signal = fr.signal, .valid = fr.valid};
             rc = keylo_pipeline_push_frame(p, &in);
         }
         free_frame(&fr);
@@ -110,7 +111,7 @@ int main(int argc, char **argv) {
             if (!isfinite(xyz[i])) { fprintf(stderr, "frame %d: non-finite cloud\n", k); return 1; }
         printf("pose %d %.6f %.6f %.6f %.6f %.6f %.6f %.6f %zu\n", k, pose.translation[0], pose.translation[1],
                pose.translation[2], pose.rotation[0], pose.rotation[1], pose.rotation[2], pose.rotation[3], n);
-        KeyloDegeneracy d;
+        KeyloDegeneracy d = {.size = sizeof d};
         int drc = keylo_pipeline_degeneracy(p, &d);
         if (drc == KEYLO_CAPI_NOT_ANALYSED) {
             printf("degeneracy %d none\n", k);

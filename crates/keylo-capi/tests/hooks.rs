@@ -1,47 +1,12 @@
 //! The SLAM hooks of the C API: motion prior, set_pose and reset, and their bad input (a
 //! matrix that is not rigid, NULL arguments).
 
-use std::ffi::{c_char, CStr};
+mod common;
 
+use std::ffi::c_char;
+
+use common::{error, push};
 use keylo_capi::ffi::*;
-
-/// A room of three walls and a floor, seen from `x` along the x axis (sensor frame), as
-/// float xyz.
-fn room(x: f32) -> Vec<f32> {
-    let mut v = Vec::new();
-    for i in 0..60 {
-        for j in 0..20 {
-            let (a, b) = (i as f32 * 0.25 - 7.0, j as f32 * 0.2);
-            v.extend([a - x, 4.0, b]); // left wall
-            v.extend([a - x, -4.0, b]); // right wall
-            v.extend([8.0 - x, a * 0.5, b]); // end wall
-            v.extend([a - x, b * 2.0 - 3.0, -1.5]); // floor
-        }
-    }
-    v
-}
-
-fn error(p: *const KeyloPipeline) -> String {
-    // SAFETY: a pipeline from keylo_pipeline_new; the message is NUL-terminated.
-    unsafe { CStr::from_ptr(keylo_pipeline_error(p)) }
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn push(p: *mut KeyloPipeline, k: usize) -> i32 {
-    let xyz = room(0.1 * k as f32);
-    // SAFETY: `xyz` holds 3 * n floats; times and intensity may be NULL.
-    unsafe {
-        keylo_pipeline_push_points(
-            p,
-            0.1 * k as f64,
-            xyz.as_ptr(),
-            std::ptr::null(),
-            std::ptr::null(),
-            xyz.len() / 3,
-        )
-    }
-}
 
 const IDENTITY: [f64; 16] = [
     1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
@@ -94,14 +59,12 @@ fn hooks_work_and_refuse_what_is_not_rigid() {
         KEYLO_CAPI_OK
     );
     assert_eq!(push(p, 4), KEYLO_CAPI_OK, "{}", error(p));
-    let mut pose = std::mem::MaybeUninit::<KeyloPose>::uninit();
-    // SAFETY: `pose` is writable.
-    assert_eq!(
-        unsafe { keylo_pipeline_pose(p, pose.as_mut_ptr()) },
-        KEYLO_CAPI_OK
-    );
-    // SAFETY: written by the successful call.
-    let pose = unsafe { pose.assume_init() };
+    let mut pose = KeyloPose {
+        size: std::mem::size_of::<KeyloPose>() as u32,
+        ..KeyloPose::default()
+    };
+    // SAFETY: `pose` is writable and its size is set.
+    assert_eq!(unsafe { keylo_pipeline_pose(p, &mut pose) }, KEYLO_CAPI_OK);
     assert!(pose.translation[0] > 99.0, "{:?}", pose.translation);
     // Per-frame statistics, in a struct that starts with its size.
     let mut stats = KeyloFrameStats {
@@ -139,10 +102,13 @@ fn hooks_work_and_refuse_what_is_not_rigid() {
     // Reset: no pose until the next frame, which starts at the identity.
     // SAFETY: a live pipeline.
     assert_eq!(unsafe { keylo_pipeline_reset(p) }, KEYLO_CAPI_OK);
-    let mut none = std::mem::MaybeUninit::<KeyloPose>::uninit();
-    // SAFETY: `none` is writable.
+    let mut none = KeyloPose {
+        size: std::mem::size_of::<KeyloPose>() as u32,
+        ..KeyloPose::default()
+    };
+    // SAFETY: `none` is writable and its size is set.
     assert_eq!(
-        unsafe { keylo_pipeline_pose(p, none.as_mut_ptr()) },
+        unsafe { keylo_pipeline_pose(p, &mut none) },
         KEYLO_CAPI_ERROR
     );
     assert_eq!(push(p, 0), KEYLO_CAPI_OK, "{}", error(p));

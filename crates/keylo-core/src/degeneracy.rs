@@ -33,6 +33,50 @@ impl Degeneracy {
         &self.eigenvectors[..self.weak.min(6)]
     }
 
+    /// The pose covariance `σ² H⁻¹` of the registration, in twist coordinates `[ρ, φ]`
+    /// (metres, radians; a world-frame perturbation, as the matrix), for residuals of
+    /// standard deviation `sigma` metres (e.g. the sensor's range noise, ~0.03 m for an
+    /// Ouster OS0). `None` when the matrix is singular (some eigenvalue not positive): a
+    /// fully unconstrained direction has no finite covariance.
+    ///
+    /// ```
+    /// use keylo_core::Degeneracy;
+    /// // Per-residual information 4 along every scaled axis, 100 residuals, L = 10 m.
+    /// let mut eigenvectors = [[0.0; 6]; 6];
+    /// for (i, v) in eigenvectors.iter_mut().enumerate() { v[i] = 1.0; }
+    /// let d = Degeneracy { eigenvalues: [4.0; 6], eigenvectors, condition: 1.0, weak: 0,
+    ///                      length_scale: 10.0, residuals: 100 };
+    /// let c = d.covariance(0.02).unwrap();
+    /// assert!((c[0][0] - 0.02f64.powi(2) / 400.0).abs() < 1e-15); // translation, m²
+    /// assert!((c[5][5] - 0.02f64.powi(2) / 400.0 / 100.0).abs() < 1e-15); // rotation, rad²
+    /// ```
+    pub fn covariance(&self, sigma: f64) -> Option<[[f64; 6]; 6]> {
+        if self.residuals == 0
+            || self
+                .eigenvalues
+                .iter()
+                .any(|&l| !(l > 0.0 && l.is_finite()))
+        {
+            return None;
+        }
+        let inv_l = 1.0 / self.length_scale.max(1e-9);
+        let scale = |i: usize| if i < 3 { 1.0 } else { inv_l };
+        let factor = sigma * sigma / self.residuals as f64;
+        let mut cov = [[0.0; 6]; 6];
+        for (i, row) in cov.iter_mut().enumerate() {
+            for (j, c) in row.iter_mut().enumerate() {
+                let sum: f64 = (0..6)
+                    .map(|k| {
+                        let v = &self.eigenvectors[k];
+                        v[i] * v[j] / self.eigenvalues[k]
+                    })
+                    .sum();
+                *c = factor * scale(i) * scale(j) * sum;
+            }
+        }
+        Some(cov)
+    }
+
     /// Whether some direction is weak.
     pub fn is_degenerate(&self) -> bool {
         self.weak > 0

@@ -64,10 +64,9 @@ fn image_keypoints(frame: &LidarFrame, c: &ChannelFeatures) -> Option<ImageKeypo
     }
     let (mut points, mut times, mut rows) = (Vec::new(), Vec::new(), Vec::new());
     for (i, kp) in c.keypoints.iter().enumerate() {
-        let Some((pixel, gx, gy)) = pixel_under(frame, c, kp.x, kp.y) else {
+        let Some((pixel, point)) = point_under(frame, c, kp) else {
             continue;
         };
-        let point = bilinear(frame, gx, gy).unwrap_or_else(|| frame.points[pixel].cast::<f64>());
         points.push(point);
         times.push(frame.pixel_time(pixel) - frame.timestamp);
         rows.push(i);
@@ -78,6 +77,27 @@ fn image_keypoints(frame: &LidarFrame, c: &ChannelFeatures) -> Option<ImageKeypo
         times,
         descriptors: descriptor_rows(descriptors, &rows),
     })
+}
+
+/// The sensor-frame point under every keypoint of `c`, aligned with `c.keypoints` (`None`
+/// over no return), placed as [`FrameKeypoints::from_features`] places them; for keypoints
+/// with or without descriptors.
+pub fn keypoint_points(frame: &LidarFrame, c: &ChannelFeatures) -> Vec<Option<Point3<f64>>> {
+    c.keypoints
+        .iter()
+        .map(|kp| point_under(frame, c, kp).map(|(_, p)| p))
+        .collect()
+}
+
+/// The frame pixel under keypoint `kp` of `c` and the point placed there.
+fn point_under(
+    frame: &LidarFrame,
+    c: &ChannelFeatures,
+    kp: &crate::Keypoint,
+) -> Option<(usize, Point3<f64>)> {
+    let (pixel, gx, gy) = pixel_under(frame, c, kp.x, kp.y)?;
+    let point = bilinear(frame, gx, gy).unwrap_or_else(|| frame.points[pixel].cast::<f64>());
+    Some((pixel, point))
 }
 
 /// Whether pixel `i` holds a finite return.
@@ -226,5 +246,11 @@ mod tests {
         // interpolation: the nearest pixel with a return, (2, 5).
         assert_eq!(img.points[1].x, 21.0);
         assert_eq!(img.descriptors.data, DescriptorData::Binary(vec![10, 20]));
+        // The same points per keypoint, descriptors or not, `None` off the image.
+        let per_keypoint = keypoint_points(&f, &features.per_image[0]);
+        assert_eq!(per_keypoint.len(), 3);
+        assert_eq!(per_keypoint[0], Some(img.points[0]));
+        assert_eq!(per_keypoint[1], Some(img.points[1]));
+        assert_eq!(per_keypoint[2], None);
     }
 }

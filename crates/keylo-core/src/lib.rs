@@ -27,7 +27,7 @@ pub use error::{ConfigError, CoreError};
 pub use features::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
 pub use frame::{BeamGeometry, Channel, LidarFrame};
 pub use image::Image;
-pub use keypoints3d::{FrameKeypoints, ImageKeypoints};
+pub use keypoints3d::{keypoint_points, FrameKeypoints, ImageKeypoints};
 pub use pipeline::{
     build_source, FrameResult, Odometry, PerImage, Pipeline, Prefetched, StageTimings,
 };

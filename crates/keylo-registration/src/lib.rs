@@ -24,25 +24,31 @@ mod test_scenes;
 /// them too); re-exported here where the registrars have always found them.
 pub use keylo_core::voxel;
 
+use keylo_core::config::StageParams;
+
 pub use error::RegistrationError;
 pub use hybrid::{CloudResidual, Hybrid, HybridConfig};
 pub use kiss_icp::{EmptyFrame, KissIcp, KissIcpConfig};
 pub use ndt::{Ndt, NdtConfig};
 
+keylo_core::stage_params!(KissIcpConfig => "kiss-icp" as RegistrarParams);
+keylo_core::stage_params!(HybridConfig => "hybrid" as RegistrarParams);
+keylo_core::stage_params!(NdtConfig => "ndt" as RegistrarParams);
+
 /// Registers this crate's backends: registrars `kiss-icp`, `hybrid`, `ndt`; downsamplers `passthrough`, `voxel`.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.registrars.add::<KissIcpConfig>(
-        "kiss-icp",
+        KissIcpConfig::KIND,
         "KISS-ICP-style point-to-point ICP against a voxel-hash local map (upstream defaults)",
         |config, _ctx| Ok(Box::new(KissIcp::new(config)?)),
     );
     registry.registrars.add::<HybridConfig>(
-        "hybrid",
+        HybridConfig::KIND,
         "degeneracy-aware KISS-ICP plus robust residuals of descriptor-matched keypoints of consecutive frames (Clarabel step)",
         |config, _ctx| Ok(Box::new(Hybrid::new(config)?)),
     );
     registry.registrars.add::<NdtConfig>(
-        "ndt",
+        NdtConfig::KIND,
         "NDT (PCL NormalDistributionsTransform semantics) against a local map of recent keyframes",
         |config, _ctx| Ok(Box::new(Ndt::new(config)?)),
     );

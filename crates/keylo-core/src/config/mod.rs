@@ -9,11 +9,16 @@ mod plugins;
 mod raw;
 mod render;
 mod resolve;
+mod typed;
 
 pub use output::{OnBadFrame, OutputConfig};
 pub use plugins::PluginsConfig;
 pub use raw::RawConfig;
 pub use render::{allowed_values, render_resolved, resolve_ref, unset_keys};
+pub use typed::{
+    ConfigBuilder, DescriptorParams, DetectorParams, DownsamplerParams, ImageParams,
+    RegistrarParams, SourceParams, StageParams,
+};
 
 use std::path::PathBuf;
 

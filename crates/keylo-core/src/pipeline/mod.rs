@@ -187,6 +187,16 @@ impl Odometry {
 
     /// Runs every stage on one frame.
     pub fn process(&mut self, frame: &LidarFrame) -> Result<FrameResult, CoreError> {
+        self.process_with_features(frame).map(|(result, _)| result)
+    }
+
+    /// [`Odometry::process`], also returning the images, keypoints and descriptors the
+    /// feature stages made (empty without an image builder), e.g. for a loop-closure module;
+    /// [`crate::keypoint_points`] places them in 3-D.
+    pub fn process_with_features(
+        &mut self,
+        frame: &LidarFrame,
+    ) -> Result<(FrameResult, FrameFeatures), CoreError> {
         frame.check_shape().map_err(|message| CoreError::BadFrame {
             frame: frame.index,
             message,
@@ -232,7 +242,7 @@ impl Odometry {
         let cloud_points = cloud.len();
         self.last_cloud = Some(cloud);
         self.last_timestamp = Some(frame.timestamp);
-        Ok(FrameResult {
+        let result = FrameResult {
             index: frame.index,
             stamp: reg.stamp,
             pose: reg.pose,
@@ -244,7 +254,8 @@ impl Odometry {
             converged: reg.converged,
             degeneracy: reg.degeneracy,
             timings,
-        })
+        };
+        Ok((result, features))
     }
 
     /// A frame whose timestamp is not finite, or not after the last registered frame's (time

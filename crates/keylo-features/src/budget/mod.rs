@@ -10,6 +10,7 @@ pub use voxel::{VoxelBudgetConfig, VoxelBudgetDownsampler};
 
 use std::collections::BTreeMap;
 
+use keylo_core::config::StageParams;
 use keylo_core::{CoreError, FrameFeatures, LidarFrame, PixelPoints, PointCloud};
 
 use crate::neighbourhood::{select_pixels, Mapping, Windows};
@@ -65,15 +66,18 @@ impl Budget {
     }
 }
 
+keylo_core::stage_params!(RandomConfig => "random" as DownsamplerParams);
+keylo_core::stage_params!(VoxelBudgetConfig => "voxel-budget" as DownsamplerParams);
+
 /// Registers downsamplers `random` and `voxel-budget`.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.downsamplers.add::<RandomConfig>(
-        "random",
+        RandomConfig::KIND,
         "uniformly random valid points, as many as a fixed count or the keypoint windows select",
         |config, _ctx| Ok(Box::new(RandomDownsampler::new(config)?)),
     );
     registry.downsamplers.add::<VoxelBudgetConfig>(
-        "voxel-budget",
+        VoxelBudgetConfig::KIND,
         "a voxel grid sized per frame to keep a fixed count or as many points as the keypoint windows select",
         |config, _ctx| Ok(Box::new(VoxelBudgetDownsampler::new(config)?)),
     );

@@ -32,6 +32,29 @@ impl<P> Params for P where
 {
 }
 
+/// `StageParams` of OpenCV parameter structs: their kind is [`CvParams::KIND`].
+macro_rules! cv_stage_params {
+    ($($ty:ty => $($stage:ident),+;)+) => {$(
+        impl keylo_core::config::StageParams for $ty {
+            const KIND: &'static str = <$ty as CvParams>::KIND;
+        }
+        $(impl keylo_core::config::$stage for $ty {})+
+    )+};
+}
+
+cv_stage_params! {
+    ShiTomasiParams => DetectorParams;
+    HarrisParams => DetectorParams;
+    FastParams => DetectorParams;
+    BriskParams => DetectorParams, DescriptorParams;
+    SiftParams => DetectorParams, DescriptorParams;
+    AkazeParams => DetectorParams, DescriptorParams;
+    KazeParams => DetectorParams, DescriptorParams;
+    OrbParams => DetectorParams, DescriptorParams;
+}
+
+keylo_core::stage_params!(SurfParams => "surf" as DetectorParams, DescriptorParams);
+
 fn add_detector<P: Params>(registry: &mut Registry, summary: &'static str) {
     registry.detectors.add::<P>(P::KIND, summary, |p, _| {
         Ok(Box::new(
@@ -70,12 +93,12 @@ pub fn register(registry: &mut Registry) {
     );
     add_descriptor::<OrbParams>(registry, "ORB (oriented BRIEF) binary descriptor (OpenCV)");
     registry.detectors.add::<SurfParams>(
-        "surf",
+        <SurfParams as keylo_core::config::StageParams>::KIND,
         "SURF (needs OpenCV's non-free xfeatures2d, absent from Debian's OpenCV)",
         |_, _| Err(surf::unavailable().in_stage("detector")),
     );
     registry.descriptors.add::<SurfParams>(
-        "surf",
+        <SurfParams as keylo_core::config::StageParams>::KIND,
         "SURF descriptor (needs OpenCV's non-free xfeatures2d, absent from Debian's OpenCV)",
         |_, _| Err(surf::unavailable().in_stage("descriptor")),
     );

@@ -9,6 +9,7 @@ pub use config::{Interpolation, LidarImageConfig};
 pub use normalise::{Normalise, NormaliseMethod};
 pub use resize::{interleave, resize_plane};
 
+use keylo_core::config::StageParams;
 use keylo_core::{Channel, CoreError, Image, ImageBuilder, LidarFrame};
 
 /// Makes the configured images of every frame.
@@ -78,10 +79,12 @@ impl ImageBuilder for LidarImageBuilder {
     }
 }
 
+keylo_core::stage_params!(LidarImageConfig => "lidar" as ImageParams);
+
 /// Registers image builder `lidar`.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.images.add::<LidarImageConfig>(
-        "lidar",
+        LidarImageConfig::KIND,
         "8-bit images of frame channels: normalise (fixed, percentile, equalise), then resize",
         |config, _ctx| Ok(Box::new(LidarImageBuilder::new(config)?)),
     );

@@ -23,12 +23,16 @@ pub use brief::{Brief, BriefParams};
 pub use freak::{Freak, FreakParams};
 pub use integral::Integral;
 
+use keylo_core::config::StageParams;
 use keylo_core::Registry;
+
+keylo_core::stage_params!(BriefParams => "brief" as DescriptorParams);
+keylo_core::stage_params!(FreakParams => "freak" as DescriptorParams);
 
 /// Registers `brief` and `freak` as descriptors.
 pub fn register(registry: &mut Registry) {
     registry.descriptors.add::<BriefParams>(
-        "brief",
+        BriefParams::KIND,
         "BRIEF binary descriptor (native; fixed-seed Gaussian test pairs)",
         |p, _| {
             Ok(Box::new(
@@ -37,7 +41,7 @@ pub fn register(registry: &mut Registry) {
         },
     );
     registry.descriptors.add::<FreakParams>(
-        "freak",
+        FreakParams::KIND,
         "FREAK binary descriptor (native; retina pattern, trained pairs)",
         |p, _| {
             Ok(Box::new(

@@ -12,6 +12,7 @@ pub use select::select_pixels;
 
 use std::collections::BTreeMap;
 
+use keylo_core::config::StageParams;
 use keylo_core::{CoreError, Downsampler, FrameFeatures, LidarFrame, PointCloud};
 
 use crate::check;
@@ -92,10 +93,12 @@ impl Downsampler for KeypointNeighbourhood {
     }
 }
 
+keylo_core::stage_params!(NeighbourhoodConfig => "keypoint-neighbourhood" as DownsamplerParams);
+
 /// Registers downsampler `keypoint-neighbourhood`.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.downsamplers.add::<NeighbourhoodConfig>(
-        "keypoint-neighbourhood",
+        NeighbourhoodConfig::KIND,
         "the frame points under K×K windows around every keypoint (the paper's method)",
         |config, _ctx| Ok(Box::new(KeypointNeighbourhood::new(config)?)),
     );

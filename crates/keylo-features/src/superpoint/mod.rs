@@ -14,6 +14,7 @@ pub mod runtime;
 pub use model::BUILTIN_MODEL;
 pub use params::{ExecutionProvider, Nms, SuperPointParams};
 
+use keylo_core::config::StageParams;
 use keylo_core::{
     BuildContext, CoreError, Descriptor, DescriptorData, Descriptors, Detector, Image, Keypoint,
     Registry,
@@ -116,15 +117,17 @@ impl Descriptor for SuperPoint {
     }
 }
 
+keylo_core::stage_params!(SuperPointParams => "superpoint" as DetectorParams, DescriptorParams);
+
 /// Registers `superpoint` as a detector and a descriptor.
 pub fn register(registry: &mut Registry) {
     registry.detectors.add::<SuperPointParams>(
-        "superpoint",
+        SuperPointParams::KIND,
         "SuperPoint keypoints + 256-d descriptors (ONNX Runtime; the shipped two-channel model by default)",
         |p, ctx| Ok(Box::new(SuperPoint::new(p, ctx).map_err(|e| e.in_stage("detector"))?)),
     );
     registry.descriptors.add::<SuperPointParams>(
-        "superpoint",
+        SuperPointParams::KIND,
         "SuperPoint 256-d float descriptors at any keypoints (ONNX Runtime)",
         |p, ctx| {
             Ok(Box::new(
