@@ -151,13 +151,19 @@ fn cpp_slam_loop_runs_on_a_kitti_folder_with_and_without_a_prior() {
     let exe = dir.path().join("slam_loop");
     compile(&exe);
     let travelled = truth[FRAMES - 1].translation.vector.norm();
-    assert!(travelled > 0.3, "the simulated sensor moves ({travelled} m)");
+    assert!(
+        travelled > 0.3,
+        "the simulated sensor moves ({travelled} m)"
+    );
     for prior in [None, Some(prior.as_path())] {
         let (est, text) = run(&exe, dir.path(), prior);
         assert_eq!(est.len(), FRAMES, "{text}");
         let err = max_error(&est, &truth);
         eprintln!("prior {prior:?}: largest error {err:.4} m over {travelled:.2} m");
-        assert!(err < 0.1, "prior {prior:?}: {err} m off the ground truth\n{text}");
+        assert!(
+            err < 0.1,
+            "prior {prior:?}: {err} m off the ground truth\n{text}"
+        );
         let keyframes = text.lines().filter(|l| l.starts_with("keyframe ")).count();
         assert!(keyframes >= 2, "{text}");
         let map: usize = text
@@ -184,5 +190,8 @@ fn cpp_slam_loop_runs_on_a_kitti_folder_with_and_without_a_prior() {
         .unwrap();
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("999999.bin: size is not a multiple of 16"), "{err}");
+    assert!(
+        err.contains("999999.bin: size is not a multiple of 16"),
+        "{err}"
+    );
 }

@@ -219,7 +219,7 @@ fn abi_version_mismatch_is_refused_with_both_versions() {
     let s = Setup::new();
     let o = s.run(&["detector.kind=plugin:bad-abi"]);
     expect_failure(&o, 2, "plugin ABI version 999 is not supported");
-    expect_failure(&o, 2, "supports ABI versions 1, 2");
+    expect_failure(&o, 2, "supports ABI versions 1, 2, 3");
     let file = s.plugins().join("libbad-abi.so");
     let o = s.keylo(&["plugins", "check", file.to_str().unwrap()]);
     expect_failure(&o, 2, "ABI version 999");

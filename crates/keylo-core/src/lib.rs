@@ -16,6 +16,7 @@ pub mod keypoints3d;
 pub mod pipeline;
 pub mod pixel_math;
 pub mod registry;
+pub mod rigid;
 pub mod scan;
 pub mod stages;
 pub mod trajectory;

@@ -6,15 +6,17 @@
 //! `abi_version` (1 byte; 0xff: 4 more bytes, little-endian, else the byte itself), `name`
 //! and `version` ([`Bytes::c_string`]), a flags byte (bit 0: `kinds` is NULL), `kind_count`
 //! (1 byte), then per kind: `stage` (as `abi_version`), `summary`, and one byte whose bits
-//! 0..7 say which of `create`, `configure`, `destroy`, `detect`, `describe`, `downsample`,
-//! `register_cloud` are non-NULL (pointing at stubs that are never called).
+//! 0..6 say which of `create`, `configure`, `destroy`, `detect`, `describe`, `downsample`,
+//! `register_cloud` are non-NULL, and bit 7 whether the four SLAM hooks are (pointing at
+//! stubs that are never called). The kinds are laid out as `abi_version` says: the shorter
+//! version-1/2 element for those versions.
 
 use std::ffi::{c_char, c_void};
 use std::path::Path;
 use std::sync::Arc;
 
 use keylo_plugin::abi::*;
-use keylo_plugin::host::{register_plugin, Plugin};
+use keylo_plugin::host::{register_plugin, KindV2, Plugin};
 
 /// A cursor over the input; reads past the end give zeros.
 struct Bytes<'a>(&'a [u8]);
@@ -94,6 +96,21 @@ unsafe extern "C" fn register_cloud(
     KEYLO_ERR_INTERNAL
 }
 
+unsafe extern "C" fn matrix_hook(_: *mut c_void, _: *const f64, _: *mut KeyloError) -> i32 {
+    KEYLO_ERR_INTERNAL
+}
+unsafe extern "C" fn reset(_: *mut c_void, _: *mut KeyloError) -> i32 {
+    KEYLO_ERR_INTERNAL
+}
+unsafe extern "C" fn local_map(
+    _: *mut c_void,
+    _: *mut *const f64,
+    _: *mut usize,
+    _: *mut KeyloError,
+) -> i32 {
+    KEYLO_ERR_INTERNAL
+}
+
 /// A kind as read from the input, with the summary it points to.
 fn kind(b: &mut Bytes, summaries: &mut Vec<Option<Vec<u8>>>) -> KeyloPluginKind {
     let stage = b.u32();
@@ -110,6 +127,10 @@ fn kind(b: &mut Bytes, summaries: &mut Vec<Option<Vec<u8>>>) -> KeyloPluginKind 
         describe: bit(4).then_some(describe as _),
         downsample: bit(5).then_some(downsample as _),
         register_cloud: bit(6).then_some(register_cloud as _),
+        set_motion_prior: bit(7).then_some(matrix_hook as _),
+        set_pose: bit(7).then_some(matrix_hook as _),
+        reset: bit(7).then_some(reset as _),
+        local_map: bit(7).then_some(local_map as _),
     };
     summaries.push(summary);
     kind
@@ -124,15 +145,20 @@ pub fn plugin_table(data: &[u8]) {
     let count = usize::from(b.u8());
     let mut summaries = Vec::with_capacity(count);
     let kinds: Vec<KeyloPluginKind> = (0..count).map(|_| kind(&mut b, &mut summaries)).collect();
+    // The array as a plugin of `abi_version` lays it out.
+    let old: Vec<KindV2> = kinds.iter().map(KindV2::from).collect();
+    let array: *const KeyloPluginKind = if null_kinds {
+        std::ptr::null()
+    } else if abi_version <= 2 {
+        old.as_ptr().cast()
+    } else {
+        kinds.as_ptr()
+    };
     let info = KeyloPluginInfo {
         abi_version,
         name: ptr(&name),
         version: ptr(&version),
-        kinds: if null_kinds {
-            std::ptr::null()
-        } else {
-            kinds.as_ptr()
-        },
+        kinds: array,
         kind_count: kinds.len(),
     };
     // SAFETY: `info` is a complete `KeyloPluginInfo`; its strings are NULL or NUL-terminated
@@ -144,5 +170,5 @@ pub fn plugin_table(data: &[u8]) {
         let mut registry = keylo_core::Registry::default();
         register_plugin(&mut registry, &Arc::new(plugin));
     }
-    drop((summaries, name, version));
+    drop((summaries, name, version, kinds, old));
 }

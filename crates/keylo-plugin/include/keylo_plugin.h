@@ -8,8 +8,8 @@
 #include <stdint.h>
 
 // The ABI version this header describes. keylo loads plugins of this version and of every
-// earlier one (1 and 2), and refuses any other.
-#define KEYLO_PLUGIN_ABI_VERSION 2
+// earlier one (1, 2 and 3), and refuses any other.
+#define KEYLO_PLUGIN_ABI_VERSION 3
 
 // Bytes of [`KeyloError::message`], terminating NUL included.
 #define KEYLO_ERROR_MESSAGE_LEN 512
@@ -249,8 +249,27 @@ typedef int32_t (*KeyloRegisterFn)(void *state,
                                    struct KeyloRegistration *out,
                                    struct KeyloError *err);
 
+// SLAM hook of a registrar (ABI 3, optional): a row-major 4x4 rigid transform (16 doubles).
+// `set_motion_prior`: the motion from the last cloud to the next (`last_pose⁻¹ · next_pose`,
+// e.g. from an IMU), replacing the registrar's own guess for the next cloud only;
+// `set_pose`: the last cloud's pose becomes `matrix`, map and motion kept.
+typedef int32_t (*KeyloMatrixFn)(void *state, const double *matrix, struct KeyloError *err);
+
+// SLAM hook of a registrar (ABI 3, optional): forget map and motion; the next cloud starts a
+// new trajectory at the identity.
+typedef int32_t (*KeyloResetFn)(void *state, struct KeyloError *err);
+
+// SLAM hook of a registrar (ABI 3, optional): the local map in the world frame: `*xyz`
+// receives `3 * *n` doubles owned by the instance, valid until its next call.
+typedef int32_t (*KeyloLocalMapFn)(void *state,
+                                   const double **xyz,
+                                   size_t *n,
+                                   struct KeyloError *err);
+
 // One backend a plugin offers. `create`, `configure` and `destroy` are required, and the run
 // function of `stage` (`detect` for [`KEYLO_STAGE_DETECTOR`], …); the others are NULL.
+// A registrar may also offer the SLAM hooks (ABI 3; NULL: "does not offer", an error when
+// called).
 typedef struct KeyloPluginKind {
   // One of the `KEYLO_STAGE_*` values. A plugin offers at most one kind per stage.
   uint32_t stage;
@@ -263,6 +282,11 @@ typedef struct KeyloPluginKind {
   KeyloDescribeFn describe;
   KeyloDownsampleFn downsample;
   KeyloRegisterFn register_cloud;
+  // ABI 3: [`KeyloMatrixFn`] hooks, [`KeyloResetFn`], [`KeyloLocalMapFn`].
+  KeyloMatrixFn set_motion_prior;
+  KeyloMatrixFn set_pose;
+  KeyloResetFn reset;
+  KeyloLocalMapFn local_map;
 } KeyloPluginKind;
 
 // What `keylo_plugin_entry` returns. `abi_version` must stay the first field in every

@@ -18,12 +18,15 @@
 //!
 //! - 1: the first version.
 //! - 2: [`KeyloFrame::scan`], every point of an unorganised scan ([`KeyloScanPoints`]).
+//! - 3: the SLAM hooks of a registrar, appended to [`KeyloPluginKind`]. The plugin fills the
+//!   kinds array, so here keylo reads a version-1/2 plugin's array with the old, shorter
+//!   element and takes the hooks as absent.
 
 use std::ffi::{c_char, c_void};
 
 /// The ABI version this header describes. keylo loads plugins of this version and of every
-/// earlier one (1 and 2), and refuses any other.
-pub const KEYLO_PLUGIN_ABI_VERSION: u32 = 2;
+/// earlier one (1, 2 and 3), and refuses any other.
+pub const KEYLO_PLUGIN_ABI_VERSION: u32 = 3;
 
 /// Bytes of [`KeyloError::message`], terminating NUL included.
 pub const KEYLO_ERROR_MESSAGE_LEN: usize = 512;
@@ -279,9 +282,34 @@ pub type KeyloRegisterFn = Option<
     ) -> i32,
 >;
 
+/// SLAM hook of a registrar (ABI 3, optional): a row-major 4x4 rigid transform (16 doubles).
+/// `set_motion_prior`: the motion from the last cloud to the next (`last_pose⁻¹ · next_pose`,
+/// e.g. from an IMU), replacing the registrar's own guess for the next cloud only;
+/// `set_pose`: the last cloud's pose becomes `matrix`, map and motion kept.
+pub type KeyloMatrixFn = Option<
+    unsafe extern "C" fn(state: *mut c_void, matrix: *const f64, err: *mut KeyloError) -> i32,
+>;
+/// SLAM hook of a registrar (ABI 3, optional): forget map and motion; the next cloud starts a
+/// new trajectory at the identity.
+pub type KeyloResetFn =
+    Option<unsafe extern "C" fn(state: *mut c_void, err: *mut KeyloError) -> i32>;
+/// SLAM hook of a registrar (ABI 3, optional): the local map in the world frame: `*xyz`
+/// receives `3 * *n` doubles owned by the instance, valid until its next call.
+pub type KeyloLocalMapFn = Option<
+    unsafe extern "C" fn(
+        state: *mut c_void,
+        xyz: *mut *const f64,
+        n: *mut usize,
+        err: *mut KeyloError,
+    ) -> i32,
+>;
+
 /// One backend a plugin offers. `create`, `configure` and `destroy` are required, and the run
 /// function of `stage` (`detect` for [`KEYLO_STAGE_DETECTOR`], …); the others are NULL.
+/// A registrar may also offer the SLAM hooks (ABI 3; NULL: "does not offer", an error when
+/// called).
 #[repr(C)]
+#[derive(Clone, Copy)]
 pub struct KeyloPluginKind {
     /// One of the `KEYLO_STAGE_*` values. A plugin offers at most one kind per stage.
     pub stage: u32,
@@ -294,6 +322,11 @@ pub struct KeyloPluginKind {
     pub describe: KeyloDescribeFn,
     pub downsample: KeyloDownsampleFn,
     pub register_cloud: KeyloRegisterFn,
+    /// ABI 3: [`KeyloMatrixFn`] hooks, [`KeyloResetFn`], [`KeyloLocalMapFn`].
+    pub set_motion_prior: KeyloMatrixFn,
+    pub set_pose: KeyloMatrixFn,
+    pub reset: KeyloResetFn,
+    pub local_map: KeyloLocalMapFn,
 }
 
 /// What `keylo_plugin_entry` returns. `abi_version` must stay the first field in every

@@ -3,6 +3,7 @@
 //! own thread pool when it has one, deskew and range-filter the scan, and stamp the result
 //! with the time of the cloud's last point.
 
+pub(crate) use keylo_core::rigid::check_rigid;
 use keylo_core::{CoreError, PointCloud};
 use nalgebra::{Isometry3, Point3};
 
@@ -139,29 +140,6 @@ pub(crate) fn check_prior(delta: &Isometry3<f64>, bound: f64) -> Result<(), Core
             "registrar",
             format!(
                 "motion prior: a step of {step:.3} m is beyond `max_motion_per_frame` = {bound} m"
-            ),
-        ));
-    }
-    Ok(())
-}
-
-/// Refuses a transform with a non-finite value or a rotation quaternion off unit length (it
-/// would not be rigid).
-pub(crate) fn check_rigid(t: &Isometry3<f64>, what: &str) -> Result<(), CoreError> {
-    let finite = t
-        .translation
-        .vector
-        .iter()
-        .chain(t.rotation.coords.iter())
-        .all(|v| v.is_finite());
-    let norm = t.rotation.coords.norm();
-    if !finite || (norm - 1.0).abs() > 1e-6 {
-        return Err(CoreError::stage(
-            "registrar",
-            format!(
-                "{what}: not a rigid transform (translation {:?}, quaternion norm {norm}); \
-                 expected finite values and a unit quaternion",
-                t.translation.vector.as_slice()
             ),
         ));
     }

@@ -4,27 +4,10 @@ use super::handles::with;
 use super::types::KeyloPipeline;
 use crate::CapiError;
 
-/// A row-major 4x4 rigid transform as an isometry; an error naming `what` when it is not one
-/// (non-finite, a last row other than 0 0 0 1, or a 3x3 part that is not a rotation within
-/// 1e-6).
+/// A row-major 4x4 rigid transform as a pose; an error naming `what` when it is not one.
 fn rigid(m: &[f64; 16], what: &str) -> Result<keylo::Pose, CapiError> {
-    let bad = |why: &str| CapiError::Argument(format!("{what}: not a rigid transform ({why})"));
-    if !m.iter().all(|v| v.is_finite()) {
-        return Err(bad("a non-finite entry"));
-    }
-    if m[12..] != [0.0, 0.0, 0.0, 1.0] {
-        return Err(bad("the last row is not 0 0 0 1"));
-    }
-    let r = nalgebra::Matrix3::new(m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]);
-    let off = (r.transpose() * r - nalgebra::Matrix3::identity())
-        .abs()
-        .max();
-    if off > 1e-6 || r.determinant() < 0.0 {
-        return Err(bad("the 3x3 part is not a rotation"));
-    }
-    let rotation = nalgebra::UnitQuaternion::from_matrix(&r);
-    let translation = nalgebra::Translation3::new(m[3], m[7], m[11]);
-    Ok(keylo::Pose::from_parts(translation, rotation))
+    keylo::rigid::pose_from_matrix(m)
+        .map_err(|why| CapiError::Argument(format!("{what}: not a rigid transform ({why})")))
 }
 
 /// Reads 16 doubles from `m`.

@@ -63,11 +63,7 @@ pub unsafe extern "C" fn keylo_pipeline_pose(p: *mut KeyloPipeline, out: *mut Ke
         let r = last(e)?;
         let t = r.pose.translation.vector;
         let q = r.pose.rotation.quaternion();
-        let m = r.pose.to_homogeneous();
-        let mut matrix = [0.0; 16];
-        for (i, v) in matrix.iter_mut().enumerate() {
-            *v = m[(i / 4, i % 4)];
-        }
+        let matrix = keylo::rigid::pose_to_matrix(&r.pose);
         let pose = KeyloPose {
             size: 0,
             converged: r.converged,

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use keylo_core::{
     CoreError, Descriptor, Descriptors, Detector, Downsampler, FrameFeatures, Image, Keypoint,
-    LidarFrame, PointCloud, Registrar, Registration,
+    LidarFrame, PointCloud, Pose, Registrar, Registration,
 };
 
 use super::library::{Kind, Plugin};
@@ -268,5 +268,74 @@ impl Registrar for RegistrarInstance {
 
     fn map_size(&self) -> usize {
         self.map_size
+    }
+
+    fn set_motion_prior(&mut self, delta: &Pose) -> Result<(), CoreError> {
+        keylo_core::rigid::check_rigid(delta, "motion prior")?;
+        let f = self.hook(self.inner.kind.fns.set_motion_prior, "set_motion_prior")?;
+        let m = keylo_core::rigid::pose_to_matrix(delta);
+        // SAFETY: a live instance and 16 doubles for the call.
+        self.inner
+            .call("set_motion_prior", |s, e| unsafe { f(s, m.as_ptr(), e) })
+    }
+
+    fn set_pose(&mut self, pose: &Pose) -> Result<(), CoreError> {
+        keylo_core::rigid::check_rigid(pose, "pose")?;
+        let f = self.hook(self.inner.kind.fns.set_pose, "set_pose")?;
+        let m = keylo_core::rigid::pose_to_matrix(pose);
+        // SAFETY: a live instance and 16 doubles for the call.
+        self.inner
+            .call("set_pose", |s, e| unsafe { f(s, m.as_ptr(), e) })
+    }
+
+    fn reset(&mut self) -> Result<(), CoreError> {
+        let f = self.hook(self.inner.kind.fns.reset, "reset")?;
+        // SAFETY: a live instance for the call.
+        self.inner.call("reset", |s, e| unsafe { f(s, e) })?;
+        self.map_size = 0;
+        Ok(())
+    }
+
+    /// The plugin's local map; empty when it offers none, or its call fails (the trait has no
+    /// error to report it with) or lends a map that is not finite.
+    fn local_map(&self) -> Vec<nalgebra::Point3<f64>> {
+        let Some(f) = self.inner.kind.fns.local_map else {
+            return Vec::new();
+        };
+        let (mut xyz, mut n) = (std::ptr::null(), 0usize);
+        let mut err = convert::empty_error();
+        // SAFETY: a live instance (used by this thread only: `Instance` is not `Sync`) and
+        // writable outputs for the call.
+        let code = unsafe { f(self.inner.state, &mut xyz, &mut n, &mut err) };
+        let len = n.checked_mul(3);
+        if code != KEYLO_OK || xyz.is_null() || len.is_none() {
+            return Vec::new();
+        }
+        // SAFETY: the plugin lends `3 * n` doubles until its next call.
+        let flat = unsafe { std::slice::from_raw_parts(xyz, len.unwrap_or(0)) };
+        let points: Vec<_> = flat
+            .chunks_exact(3)
+            .map(|c| nalgebra::Point3::new(c[0], c[1], c[2]))
+            .collect();
+        if points
+            .iter()
+            .all(|p| p.coords.iter().all(|v| v.is_finite()))
+        {
+            points
+        } else {
+            Vec::new()
+        }
+    }
+}
+
+impl RegistrarInstance {
+    /// The hook `f` of the plugin, or an error saying that it does not offer `name`.
+    fn hook<F>(&self, f: Option<F>, name: &str) -> Result<F, CoreError> {
+        f.ok_or_else(|| {
+            self.inner.error(format!(
+                "does not offer `{name}` (a SLAM hook: ABI 3 registrars may; this plugin is ABI {})",
+                self.inner.plugin.abi_version
+            ))
+        })
     }
 }

@@ -68,6 +68,63 @@ pub struct KindFns {
     pub describe: KeyloDescribeFn,
     pub downsample: KeyloDownsampleFn,
     pub register_cloud: KeyloRegisterFn,
+    pub set_motion_prior: KeyloMatrixFn,
+    pub set_pose: KeyloMatrixFn,
+    pub reset: KeyloResetFn,
+    pub local_map: KeyloLocalMapFn,
+}
+
+/// [`KeyloPluginKind`] as ABI versions 1 and 2 lay it out: without the SLAM hooks. A plugin of
+/// those versions fills an array of these, so it is read with this element size.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct KindV2 {
+    pub stage: u32,
+    pub summary: *const std::ffi::c_char,
+    pub create: KeyloCreateFn,
+    pub configure: KeyloConfigureFn,
+    pub destroy: KeyloDestroyFn,
+    pub detect: KeyloDetectFn,
+    pub describe: KeyloDescribeFn,
+    pub downsample: KeyloDownsampleFn,
+    pub register_cloud: KeyloRegisterFn,
+}
+
+impl From<&KeyloPluginKind> for KindV2 {
+    /// The version-2 prefix of a kind (its hooks dropped).
+    fn from(k: &KeyloPluginKind) -> Self {
+        Self {
+            stage: k.stage,
+            summary: k.summary,
+            create: k.create,
+            configure: k.configure,
+            destroy: k.destroy,
+            detect: k.detect,
+            describe: k.describe,
+            downsample: k.downsample,
+            register_cloud: k.register_cloud,
+        }
+    }
+}
+
+impl From<KindV2> for KeyloPluginKind {
+    fn from(k: KindV2) -> Self {
+        Self {
+            stage: k.stage,
+            summary: k.summary,
+            create: k.create,
+            configure: k.configure,
+            destroy: k.destroy,
+            detect: k.detect,
+            describe: k.describe,
+            downsample: k.downsample,
+            register_cloud: k.register_cloud,
+            set_motion_prior: None,
+            set_pose: None,
+            reset: None,
+            local_map: None,
+        }
+    }
 }
 
 /// One kind a plugin offers.
@@ -171,11 +228,17 @@ impl Plugin {
                 info.kind_count
             )));
         }
-        let raw = if info.kind_count == 0 {
-            &[][..]
+        let raw: Vec<KeyloPluginKind> = if info.kind_count == 0 {
+            Vec::new()
+        } else if found <= 2 {
+            // SAFETY: non-NULL, `kind_count` entries of the version-1/2 layout per the ABI.
+            unsafe { std::slice::from_raw_parts(info.kinds.cast::<KindV2>(), info.kind_count) }
+                .iter()
+                .map(|&k| k.into())
+                .collect()
         } else {
             // SAFETY: non-NULL, `kind_count` entries per the ABI.
-            unsafe { std::slice::from_raw_parts(info.kinds, info.kind_count) }
+            unsafe { std::slice::from_raw_parts(info.kinds, info.kind_count) }.to_vec()
         };
         let mut kinds: Vec<Kind> = Vec::new();
         for (i, k) in raw.iter().enumerate() {
@@ -238,6 +301,10 @@ unsafe fn check_kind(k: &KeyloPluginKind) -> Result<Kind, String> {
             describe: k.describe,
             downsample: k.downsample,
             register_cloud: k.register_cloud,
+            set_motion_prior: k.set_motion_prior,
+            set_pose: k.set_pose,
+            reset: k.reset,
+            local_map: k.local_map,
         },
     })
 }

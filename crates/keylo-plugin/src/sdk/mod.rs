@@ -11,6 +11,7 @@
 //! Every call is wrapped in `catch_unwind`: a panic becomes a [`KEYLO_ERR_PANIC`] error with
 //! the panic message, never an abort across the C boundary.
 
+mod hooks;
 mod inputs;
 mod shims;
 
@@ -98,6 +99,10 @@ fn blank_kind(stage: u32) -> KeyloPluginKind {
         describe: None,
         downsample: None,
         register_cloud: None,
+        set_motion_prior: None,
+        set_pose: None,
+        reset: None,
+        local_map: None,
     }
 }
 

@@ -12,25 +12,27 @@ use crate::abi::*;
 use crate::convert;
 
 /// An instance: the backend once configured, and the output buffers it hands out.
-struct Slot<T> {
+pub(super) struct Slot<T> {
     inner: Option<T>,
     keypoints: Vec<keylo_core::Keypoint>,
     descriptors: Option<keylo_core::Descriptors>,
     cloud: keylo_core::PointCloud,
+    /// A registrar's local map, xyz interleaved, as last lent out.
+    pub(super) map: Vec<f64>,
 }
 
-type Failure = (i32, String);
+pub(super) type Failure = (i32, String);
 
-fn internal(e: impl std::fmt::Display) -> Failure {
+pub(super) fn internal(e: impl std::fmt::Display) -> Failure {
     (KEYLO_ERR_INTERNAL, e.to_string())
 }
 
-fn input(e: impl std::fmt::Display) -> Failure {
+pub(super) fn input(e: impl std::fmt::Display) -> Failure {
     (KEYLO_ERR_INPUT, e.to_string())
 }
 
 /// Runs `f`, writing its error or panic into `err`; returns the status code.
-fn guard(err: *mut KeyloError, f: impl FnOnce() -> Result<(), Failure>) -> i32 {
+pub(super) fn guard(err: *mut KeyloError, f: impl FnOnce() -> Result<(), Failure>) -> i32 {
     let (code, message) = match catch_unwind(AssertUnwindSafe(f)) {
         Ok(Ok(())) => return KEYLO_OK,
         Ok(Err(failure)) => failure,
@@ -52,7 +54,7 @@ fn guard(err: *mut KeyloError, f: impl FnOnce() -> Result<(), Failure>) -> i32 {
 ///
 /// # Safety
 /// `state` must come from [`create`] for the same `T` and not be used elsewhere meanwhile.
-unsafe fn slot<'a, T>(state: *mut c_void) -> Result<&'a mut Slot<T>, Failure> {
+pub(super) unsafe fn slot<'a, T>(state: *mut c_void) -> Result<&'a mut Slot<T>, Failure> {
     if state.is_null() {
         return Err(internal("NULL instance"));
     }
@@ -60,7 +62,7 @@ unsafe fn slot<'a, T>(state: *mut c_void) -> Result<&'a mut Slot<T>, Failure> {
     Ok(unsafe { &mut *state.cast::<Slot<T>>() })
 }
 
-fn configured<T>(slot: &mut Slot<T>) -> Result<&mut T, Failure> {
+pub(super) fn configured<T>(slot: &mut Slot<T>) -> Result<&mut T, Failure> {
     slot.inner
         .as_mut()
         .ok_or_else(|| internal("instance used before configure"))
@@ -74,6 +76,7 @@ unsafe extern "C" fn create<T: FromConfig>(err: *mut KeyloError) -> *mut c_void 
             keypoints: Vec::new(),
             descriptors: None,
             cloud: Default::default(),
+            map: Vec::new(),
         };
         out = Box::into_raw(Box::new(slot)).cast::<c_void>();
         Ok(())
@@ -256,6 +259,7 @@ pub fn downsampler<T: FromConfig + Downsampler>(summary: &str) -> KindSpec {
 pub fn registrar<T: FromConfig + Registrar>(summary: &str) -> KindSpec {
     let mut kind = common::<T>(KEYLO_STAGE_REGISTRAR);
     kind.register_cloud = Some(register_cloud::<T>);
+    super::hooks::fill::<T>(&mut kind);
     KindSpec {
         kind,
         summary: summary.into(),
