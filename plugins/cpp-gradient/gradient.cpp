@@ -122,9 +122,13 @@ const KeyloPluginKind KINDS[] = {{
     configure,
     destroy,
     detect,
-    nullptr,
-    nullptr,
-    nullptr,
+    nullptr,  // describe
+    nullptr,  // downsample
+    nullptr,  // register_cloud
+    nullptr,  // set_motion_prior (ABI 3 registrar hooks: not a registrar)
+    nullptr,  // set_pose
+    nullptr,  // reset
+    nullptr,  // local_map
 }};
 
 const KeyloPluginInfo INFO = {KEYLO_PLUGIN_ABI_VERSION, "cpp-gradient", "0.1.0", KINDS, 1};

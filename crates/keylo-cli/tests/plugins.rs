@@ -195,7 +195,7 @@ fn plugins_list_and_check_show_name_version_kinds_path_abi() {
         .find(|l| l.starts_with("plugin:c-peaks "))
         .unwrap_or_else(|| panic!("{text}"));
     assert!(
-        line.contains("0.1.0") && line.contains(" 2 ") && line.contains("detector"),
+        line.contains("0.1.0") && line.contains(" 3 ") && line.contains("detector"),
         "{line}"
     );
     assert!(line.contains("libc-peaks.so"), "{line}");
