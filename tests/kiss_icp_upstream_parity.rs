@@ -7,8 +7,9 @@
 
 use std::path::{Path, PathBuf};
 
-use keylo::eval::{evaluate, io, EvalOptions};
+use keylo::eval::{evaluate, EvalOptions};
 use keylo::io::kitti_bin::read_kitti_bin;
+use keylo::io::trajectory as io;
 use keylo::registration::{KissIcp, KissIcpConfig};
 use keylo::{PointCloud, Registrar, Trajectory};
 use nalgebra::Point3;

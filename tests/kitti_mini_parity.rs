@@ -13,7 +13,7 @@
 use std::path::{Path, PathBuf};
 
 use keylo::config::RawConfig;
-use keylo::eval::io;
+use keylo::io::trajectory as io;
 use keylo::{FrameResult, Pipeline, Pose, Trajectory};
 
 fn kitti_mini() -> Option<PathBuf> {

@@ -39,7 +39,7 @@ pub fn run(args: SimArgs, quiet: bool) -> Result<ExitCode> {
         },
     };
     let gt_path = args.out.join("gt.tum");
-    keylo::eval::io::write_tum(&gt_path, &gt)
+    keylo::io::trajectory::write_tum(&gt_path, &gt)
         .with_context(|| format!("writing {}", gt_path.display()))?;
     if !quiet {
         println!(

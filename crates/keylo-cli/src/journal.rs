@@ -8,7 +8,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use keylo::eval::io::{format_kitti_line, format_tum_line};
+use keylo::io::trajectory::{format_kitti_line, format_tum_line};
 use keylo::Pose;
 
 use crate::report::{FrameRow, FRAMES_CSV_HEADER};
@@ -100,7 +100,10 @@ mod tests {
         );
         let mut traj = keylo::Trajectory::default();
         traj.push(0.1, Pose::translation(1.0, 2.0, 3.0));
-        assert_eq!(read("trajectory.tum"), keylo::eval::io::format_tum(&traj));
+        assert_eq!(
+            read("trajectory.tum"),
+            keylo::io::trajectory::format_tum(&traj)
+        );
         drop(j);
     }
 }

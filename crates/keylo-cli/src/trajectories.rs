@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use keylo::eval::io::{detect_format, parse_kitti, parse_tum, Format};
+use keylo::io::trajectory::{detect_format, parse_kitti, parse_tum, Format};
 use keylo::Trajectory;
 
 /// A trajectory with the format it was read in and a label for messages.

@@ -1,7 +1,7 @@
 //! Trajectory evaluation for keylo, computing the metrics the way
-//! [evo](https://github.com/MichaelGrupp/evo) does.
+//! [evo](https://github.com/MichaelGrupp/evo) does. Pure math on [`keylo_core::Trajectory`]
+//! values: trajectory files are read and written by `keylo_io::trajectory`.
 //!
-//! * [`io`]: TUM and KITTI trajectory files.
 //! * [`associate`]: stamp matching (`evo --t_max_diff / --t_offset`).
 //! * [`align`]: Umeyama SE(3)/Sim(3) alignment.
 //! * [`ape`]: absolute pose error (`evo_ape -a`), [`rpe`]: relative pose error (`evo_rpe`).
@@ -19,7 +19,6 @@ pub mod associate;
 pub mod drift;
 mod error;
 mod evaluate;
-pub mod io;
 pub mod pose_error;
 pub mod rpe;
 pub mod stats;

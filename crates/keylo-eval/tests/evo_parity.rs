@@ -3,9 +3,9 @@
 
 use keylo_eval::ape::{ape, AlignMode, ApeOptions};
 use keylo_eval::associate::{associate, AssociateOptions, Associated};
-use keylo_eval::io::read_trajectory;
 use keylo_eval::rpe::{rpe, Delta, RpeOptions};
 use keylo_eval::stats::Stats;
+use keylo_io::trajectory::read_trajectory;
 use serde_json::Value;
 
 const DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/fixtures/evo/");

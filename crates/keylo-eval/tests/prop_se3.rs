@@ -1,8 +1,8 @@
 //! Property tests: SE(3) algebra and the TUM/KITTI round trips.
 
 use keylo_core::{Pose, Trajectory};
-use keylo_eval::io::{format_kitti, format_tum, parse_kitti, parse_tum};
 use keylo_eval::pose_error::{relative, relative_error, PoseRelation};
+use keylo_io::trajectory::{format_kitti, format_tum, parse_kitti, parse_tum};
 use nalgebra::{Translation3, UnitQuaternion, Vector3};
 use proptest::prelude::*;
 

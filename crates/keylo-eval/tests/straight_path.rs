@@ -4,8 +4,8 @@
 use keylo_eval::align::{positions, umeyama};
 use keylo_eval::ape::{ape, ape_errors, ApeOptions};
 use keylo_eval::associate::Associated;
-use keylo_eval::io::read_trajectory;
 use keylo_eval::pose_error::PoseRelation;
+use keylo_io::trajectory::read_trajectory;
 
 const DIR: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

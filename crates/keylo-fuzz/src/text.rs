@@ -2,7 +2,7 @@
 
 use keylo_core::config::RawConfig;
 use keylo_core::Registry;
-use keylo_eval::io::{parse_kitti, parse_kitti_with_times, parse_trajectory, parse_tum};
+use keylo_io::trajectory::{parse_kitti, parse_kitti_with_times, parse_trajectory, parse_tum};
 
 use crate::parts;
 

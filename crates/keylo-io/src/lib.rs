@@ -3,6 +3,8 @@
 //! - [`frames`]: keylo's own frame-folder format (the organised grid with every channel),
 //!   written by `keylo sim` and read back as source kind `frames`.
 //! - [`kitti_bin`]: plain KITTI-style `.bin` frames (x y z intensity, float32) for other tools.
+//! - [`trajectory`]: TUM and KITTI trajectory files (read and written; evaluation is
+//!   `keylo-eval`, which reads no file).
 
 pub mod cloud;
 mod error;
@@ -18,6 +20,7 @@ pub mod point_files;
 #[cfg(feature = "ros")]
 pub mod ros;
 pub mod select;
+pub mod trajectory;
 
 pub use error::IoError;
 

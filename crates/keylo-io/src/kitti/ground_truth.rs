@@ -4,7 +4,7 @@ use std::path::Path;
 
 use keylo_core::{Pose, Trajectory};
 
-use super::side_files::eval_error;
+use super::side_files::trajectory_error;
 use crate::IoError;
 
 /// Reads the KITTI pose file `path` (3×4 per line, cam0 frame, one pose per scan) and
@@ -12,8 +12,8 @@ use crate::IoError;
 pub fn lidar_ground_truth(path: &Path, tr: &Pose, stamps: &[f64]) -> Result<Trajectory, IoError> {
     let text = std::fs::read_to_string(path).map_err(|e| IoError::io(path, e))?;
     let label = path.display().to_string();
-    let cam =
-        keylo_eval::io::parse_kitti(&text, &label).map_err(|e| eval_error(path, &label, &e))?;
+    let cam = crate::trajectory::parse_kitti(&text, &label)
+        .map_err(|e| trajectory_error(path, &label, &e))?;
     if cam.len() != stamps.len() {
         return Err(IoError::format(
             path,

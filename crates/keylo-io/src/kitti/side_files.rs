@@ -49,21 +49,25 @@ pub fn read_calib_tr(path: &Path) -> Result<Option<Pose>, IoError> {
 }
 
 /// The 12 numbers of line `line` of `path` as a pose, checked and re-orthonormalised by
-/// keylo-eval's KITTI pose reader (the same rules as a pose file line).
+/// the KITTI pose reader of [`crate::trajectory`] (the same rules as a pose file line).
 fn kitti_matrix(path: &Path, line: usize, values: &str) -> Result<Pose, IoError> {
-    // Blank lines in front keep keylo-eval's line numbers those of the file.
+    // Blank lines in front keep the reader's line numbers those of the file.
     let text = format!("{}{values}\n", "\n".repeat(line - 1));
     let label = path.display().to_string();
-    let traj =
-        keylo_eval::io::parse_kitti(&text, &label).map_err(|e| eval_error(path, &label, &e))?;
+    let traj = crate::trajectory::parse_kitti(&text, &label)
+        .map_err(|e| trajectory_error(path, &label, &e))?;
     traj.poses
         .first()
         .copied()
         .ok_or_else(|| line_error(path, line, "expected 12 numbers"))
 }
 
-/// A keylo-eval error as an error of `path`, without repeating the file name.
-pub(crate) fn eval_error(path: &Path, label: &str, e: &keylo_eval::EvalError) -> IoError {
+/// A trajectory-file error as an error of `path`, without repeating the file name.
+pub(crate) fn trajectory_error(
+    path: &Path,
+    label: &str,
+    e: &crate::trajectory::TrajectoryError,
+) -> IoError {
     let message = e.to_string();
     let rest = message
         .strip_prefix(label)

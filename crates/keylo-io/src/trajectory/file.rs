@@ -2,19 +2,19 @@
 
 use std::path::Path;
 
-use crate::EvalError;
+use super::TrajectoryError;
 
 /// Reads `path` to a string.
-pub(crate) fn read_text(path: &Path) -> Result<String, EvalError> {
-    std::fs::read_to_string(path).map_err(|source| EvalError::Read {
+pub(crate) fn read_text(path: &Path) -> Result<String, TrajectoryError> {
+    std::fs::read_to_string(path).map_err(|source| TrajectoryError::Read {
         path: path.to_path_buf(),
         source,
     })
 }
 
 /// Writes `text` to `path`, replacing it.
-pub(crate) fn write_text(path: &Path, text: &str) -> Result<(), EvalError> {
-    std::fs::write(path, text).map_err(|source| EvalError::Write {
+pub(crate) fn write_text(path: &Path, text: &str) -> Result<(), TrajectoryError> {
+    std::fs::write(path, text).map_err(|source| TrajectoryError::Write {
         path: path.to_path_buf(),
         source,
     })

@@ -8,7 +8,7 @@ use nalgebra::{Translation3, UnitQuaternion};
 use super::file::{label, read_text, write_text};
 use super::lines::{first_line, numbers, raw_lines};
 use super::rotation::quaternion_xyzw;
-use crate::EvalError;
+use super::TrajectoryError;
 
 /// Numbers per TUM line.
 pub const TUM_COLUMNS: usize = 8;
@@ -18,14 +18,14 @@ pub const TUM_COLUMNS: usize = 8;
 /// `#` comment lines and blank lines are skipped; quaternions are normalised.
 ///
 /// ```
-/// let traj = keylo_eval::io::parse_tum("# t x y z qx qy qz qw\n0.5 1 2 3 0 0 0 1\n", "gt.tum")?;
+/// let traj = keylo_io::trajectory::parse_tum("# t x y z qx qy qz qw\n0.5 1 2 3 0 0 0 1\n", "gt.tum")?;
 /// assert_eq!(traj.stamps, vec![0.5]);
 /// assert_eq!(traj.poses[0].translation.vector.z, 3.0);
-/// let err = keylo_eval::io::parse_tum("0.5 1 2 3 0 0", "gt.tum").unwrap_err();
+/// let err = keylo_io::trajectory::parse_tum("0.5 1 2 3 0 0", "gt.tum").unwrap_err();
 /// assert_eq!(err.to_string(), "gt.tum line 1: expected 8 numbers, found 6");
-/// # Ok::<(), keylo_eval::EvalError>(())
+/// # Ok::<(), keylo_io::trajectory::TrajectoryError>(())
 /// ```
-pub fn parse_tum(text: &str, file: &str) -> Result<Trajectory, EvalError> {
+pub fn parse_tum(text: &str, file: &str) -> Result<Trajectory, TrajectoryError> {
     first_line(text, file)?;
     let mut traj = Trajectory::default();
     for line in raw_lines(text) {
@@ -37,8 +37,12 @@ pub fn parse_tum(text: &str, file: &str) -> Result<Trajectory, EvalError> {
     Ok(traj)
 }
 
-fn tum_rotation(v: &[f64], file: &str, line: usize) -> Result<UnitQuaternion<f64>, EvalError> {
-    quaternion_xyzw([v[4], v[5], v[6], v[7]]).map_err(|norm| EvalError::BadQuaternion {
+fn tum_rotation(
+    v: &[f64],
+    file: &str,
+    line: usize,
+) -> Result<UnitQuaternion<f64>, TrajectoryError> {
+    quaternion_xyzw([v[4], v[5], v[6], v[7]]).map_err(|norm| TrajectoryError::BadQuaternion {
         file: file.to_string(),
         line,
         norm,
@@ -46,7 +50,7 @@ fn tum_rotation(v: &[f64], file: &str, line: usize) -> Result<UnitQuaternion<f64
 }
 
 /// Reads a TUM file.
-pub fn read_tum(path: impl AsRef<Path>) -> Result<Trajectory, EvalError> {
+pub fn read_tum(path: impl AsRef<Path>) -> Result<Trajectory, TrajectoryError> {
     let path = path.as_ref();
     parse_tum(&read_text(path)?, &label(path))
 }
@@ -57,7 +61,7 @@ pub fn read_tum(path: impl AsRef<Path>) -> Result<Trajectory, EvalError> {
 /// use keylo_core::{Pose, Trajectory};
 /// let mut traj = Trajectory::default();
 /// traj.push(1.0, Pose::translation(1.0, 2.0, 3.0));
-/// let text = keylo_eval::io::format_tum(&traj);
+/// let text = keylo_io::trajectory::format_tum(&traj);
 /// assert_eq!(text, "1.000000000 1.000000000 2.000000000 3.000000000 0.000000000 0.000000000 0.000000000 1.000000000\n");
 /// ```
 pub fn format_tum(traj: &Trajectory) -> String {
@@ -87,7 +91,7 @@ fn canonical(q: UnitQuaternion<f64>) -> nalgebra::Quaternion<f64> {
 }
 
 /// Writes a trajectory as a TUM file.
-pub fn write_tum(path: impl AsRef<Path>, traj: &Trajectory) -> Result<(), EvalError> {
+pub fn write_tum(path: impl AsRef<Path>, traj: &Trajectory) -> Result<(), TrajectoryError> {
     write_text(path.as_ref(), &format_tum(traj))
 }
 
@@ -108,7 +112,7 @@ mod tests {
     fn empty_and_comment_only_are_errors() {
         for text in ["", "\n\n", "# only a comment\n"] {
             let err = parse_tum(text, "e.tum").unwrap_err();
-            assert!(matches!(err, EvalError::Empty { .. }), "{err}");
+            assert!(matches!(err, TrajectoryError::Empty { .. }), "{err}");
         }
     }
 

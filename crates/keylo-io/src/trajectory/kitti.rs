@@ -8,7 +8,7 @@ use nalgebra::{Matrix3, Translation3};
 use super::file::{label, read_text, write_text};
 use super::lines::{first_line, numbers, raw_lines};
 use super::rotation::nearest_rotation;
-use crate::EvalError;
+use super::TrajectoryError;
 
 /// Numbers per KITTI line.
 pub const KITTI_COLUMNS: usize = 12;
@@ -20,12 +20,12 @@ pub const KITTI_COLUMNS: usize = 12;
 ///
 /// ```
 /// let text = "1 0 0 5  0 1 0 6  0 0 1 7\n1 0 0 8  0 1 0 9  0 0 1 10\n";
-/// let traj = keylo_eval::io::parse_kitti(text, "poses.txt")?;
+/// let traj = keylo_io::trajectory::parse_kitti(text, "poses.txt")?;
 /// assert_eq!(traj.stamps, vec![0.0, 1.0]);
 /// assert_eq!(traj.poses[1].translation.vector.x, 8.0);
-/// # Ok::<(), keylo_eval::EvalError>(())
+/// # Ok::<(), keylo_io::trajectory::TrajectoryError>(())
 /// ```
-pub fn parse_kitti(text: &str, file: &str) -> Result<Trajectory, EvalError> {
+pub fn parse_kitti(text: &str, file: &str) -> Result<Trajectory, TrajectoryError> {
     first_line(text, file)?;
     let mut traj = Trajectory::default();
     for (index, line) in raw_lines(text).enumerate() {
@@ -40,10 +40,10 @@ pub fn parse_kitti_with_times(
     text: &str,
     file: &str,
     times: &[f64],
-) -> Result<Trajectory, EvalError> {
+) -> Result<Trajectory, TrajectoryError> {
     let mut traj = parse_kitti(text, file)?;
     if times.len() != traj.len() {
-        return Err(EvalError::TimesMismatch {
+        return Err(TrajectoryError::TimesMismatch {
             file: file.to_string(),
             poses: traj.len(),
             times: times.len(),
@@ -53,9 +53,9 @@ pub fn parse_kitti_with_times(
     Ok(traj)
 }
 
-fn kitti_pose(v: &[f64], file: &str, line: usize) -> Result<Pose, EvalError> {
+fn kitti_pose(v: &[f64], file: &str, line: usize) -> Result<Pose, TrajectoryError> {
     let m = Matrix3::new(v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10]);
-    let rotation = nearest_rotation(&m).map_err(|reason| EvalError::BadRotation {
+    let rotation = nearest_rotation(&m).map_err(|reason| TrajectoryError::BadRotation {
         file: file.to_string(),
         line,
         reason,
@@ -67,7 +67,7 @@ fn kitti_pose(v: &[f64], file: &str, line: usize) -> Result<Pose, EvalError> {
 }
 
 /// Reads a KITTI pose file; stamps are the pose indices.
-pub fn read_kitti(path: impl AsRef<Path>) -> Result<Trajectory, EvalError> {
+pub fn read_kitti(path: impl AsRef<Path>) -> Result<Trajectory, TrajectoryError> {
     let path = path.as_ref();
     parse_kitti(&read_text(path)?, &label(path))
 }
@@ -76,7 +76,7 @@ pub fn read_kitti(path: impl AsRef<Path>) -> Result<Trajectory, EvalError> {
 pub fn read_kitti_with_times(
     path: impl AsRef<Path>,
     times: &[f64],
-) -> Result<Trajectory, EvalError> {
+) -> Result<Trajectory, TrajectoryError> {
     let path = path.as_ref();
     parse_kitti_with_times(&read_text(path)?, &label(path), times)
 }
@@ -101,7 +101,7 @@ pub fn format_kitti_line(pose: &Pose) -> String {
 }
 
 /// Writes a trajectory as a KITTI pose file (stamps are dropped).
-pub fn write_kitti(path: impl AsRef<Path>, traj: &Trajectory) -> Result<(), EvalError> {
+pub fn write_kitti(path: impl AsRef<Path>, traj: &Trajectory) -> Result<(), TrajectoryError> {
     write_text(path.as_ref(), &format_kitti(traj))
 }
 

@@ -1,6 +1,6 @@
 //! Splitting trajectory text into numbered data lines of finite numbers.
 
-use crate::EvalError;
+use super::TrajectoryError;
 
 /// One data line: its 1-based number in the file and its whitespace-separated tokens.
 pub(crate) struct RawLine<'a> {
@@ -23,10 +23,12 @@ pub(crate) fn raw_lines(text: &str) -> impl Iterator<Item = RawLine<'_>> {
 }
 
 /// Fails with `Empty` when `text` holds no data line.
-pub(crate) fn first_line<'a>(text: &'a str, file: &str) -> Result<RawLine<'a>, EvalError> {
-    raw_lines(text).next().ok_or_else(|| EvalError::Empty {
-        file: file.to_string(),
-    })
+pub(crate) fn first_line<'a>(text: &'a str, file: &str) -> Result<RawLine<'a>, TrajectoryError> {
+    raw_lines(text)
+        .next()
+        .ok_or_else(|| TrajectoryError::Empty {
+            file: file.to_string(),
+        })
 }
 
 /// Parses a line that must have exactly `expected` finite numbers.
@@ -34,9 +36,9 @@ pub(crate) fn numbers(
     line: &RawLine<'_>,
     expected: usize,
     file: &str,
-) -> Result<Vec<f64>, EvalError> {
+) -> Result<Vec<f64>, TrajectoryError> {
     if line.tokens.len() != expected {
-        return Err(EvalError::ColumnCount {
+        return Err(TrajectoryError::ColumnCount {
             file: file.to_string(),
             line: line.number,
             expected: expected.to_string(),
@@ -50,15 +52,15 @@ pub(crate) fn numbers(
         .collect()
 }
 
-fn number(token: &str, file: &str, line: usize, column: usize) -> Result<f64, EvalError> {
-    let value: f64 = token.parse().map_err(|_| EvalError::NotANumber {
+fn number(token: &str, file: &str, line: usize, column: usize) -> Result<f64, TrajectoryError> {
+    let value: f64 = token.parse().map_err(|_| TrajectoryError::NotANumber {
         file: file.to_string(),
         line,
         column,
         token: token.to_string(),
     })?;
     if !value.is_finite() {
-        return Err(EvalError::NonFinite {
+        return Err(TrajectoryError::NonFinite {
             file: file.to_string(),
             line,
             column,

@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use keylo_eval::io::{read_kitti, read_trajectory, read_tum};
-use keylo_eval::EvalError;
+use keylo_io::trajectory::TrajectoryError;
+use keylo_io::trajectory::{read_kitti, read_trajectory, read_tum};
 
 fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> PathBuf {
     let path = dir.path().join(name);
@@ -11,7 +11,7 @@ fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> PathBuf {
     path
 }
 
-fn message(result: Result<keylo_core::Trajectory, EvalError>) -> String {
+fn message(result: Result<keylo_core::Trajectory, TrajectoryError>) -> String {
     result.unwrap_err().to_string()
 }
 
@@ -115,6 +115,6 @@ fn missing_file() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("absent.tum");
     let err = read_trajectory(&path).unwrap_err();
-    assert!(matches!(err, EvalError::Read { .. }));
+    assert!(matches!(err, TrajectoryError::Read { .. }));
     assert!(err.to_string().contains("absent.tum: cannot read"));
 }
