@@ -13,6 +13,7 @@ pub mod features;
 pub mod frame;
 pub mod image;
 pub mod keypoints3d;
+pub mod matching;
 pub mod pipeline;
 pub mod pixel_math;
 pub mod registry;

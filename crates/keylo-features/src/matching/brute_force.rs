@@ -1,11 +1,10 @@
-//! Brute-force matching: Hamming distance for binary descriptors, L2 for float ones.
+//! Brute-force matching for the keypoint evaluation and the matched windows: keylo's one
+//! matcher ([`keylo_core::matching`]: Hamming distance for binary descriptors, L2 for float
+//! ones, ties to the lower row, as OpenCV's `BFMatcher`).
 
-use keylo_core::{DescriptorData, Descriptors};
-use opencv::core::{no_array, DMatch, Vector, NORM_HAMMING, NORM_L2};
-use opencv::features2d::BFMatcher;
-use opencv::prelude::*;
+use keylo_core::matching::{nearest, MatchError, Nearest};
+use keylo_core::Descriptors;
 
-use crate::cv::descriptors_to_mat;
 use crate::FeaturesError;
 
 /// A match of query row `query` to train row `train`.
@@ -16,99 +15,67 @@ pub struct Match {
     pub distance: f32,
 }
 
-fn matcher(
+fn nearest_rows(
     query: &Descriptors,
     train: &Descriptors,
     cross_check: bool,
-) -> Result<Option<opencv::core::Ptr<BFMatcher>>, FeaturesError> {
-    if query.rows == 0 || train.rows == 0 {
-        return Ok(None);
-    }
-    let same_kind = std::mem::discriminant(&query.data) == std::mem::discriminant(&train.data);
-    if query.dim != train.dim || !same_kind {
-        return Err(FeaturesError::BadInput(format!(
-            "cannot match descriptors of {} and {} elements (or binary against float)",
-            query.dim, train.dim
-        )));
-    }
-    let norm = match query.data {
-        DescriptorData::Binary(_) => NORM_HAMMING,
-        DescriptorData::Float(_) => NORM_L2,
-    };
-    BFMatcher::create(norm, cross_check)
-        .map(Some)
-        .map_err(|e| FeaturesError::opencv("BFMatcher::create", e))
+) -> Result<Vec<Nearest>, FeaturesError> {
+    nearest(query, train, cross_check)
+        .map_err(|e: MatchError| FeaturesError::BadInput(e.to_string()))
 }
 
-fn to_match(m: &DMatch) -> Option<Match> {
-    Some(Match {
-        query: usize::try_from(m.query_idx).ok()?,
-        train: usize::try_from(m.train_idx).ok()?,
-        distance: m.distance,
-    })
-}
-
-/// Brute-force matches of every query row (best train row each), with OpenCV's cross-check
-/// when `cross_check` (a pair is kept only when each is the other's best), sorted by distance.
+/// Brute-force matches of every query row (best train row each), cross-checked when
+/// `cross_check` (a pair is kept only when each is the other's best, as OpenCV's
+/// `BFMatcher(crossCheck=true).match`), sorted by distance (stably: query order on ties).
 pub fn cross_checked(
     query: &Descriptors,
     train: &Descriptors,
     cross_check: bool,
 ) -> Result<Vec<Match>, FeaturesError> {
-    let Some(m) = matcher(query, train, cross_check)? else {
-        return Ok(Vec::new());
-    };
-    let mut out = Vector::<DMatch>::new();
-    m.train_match(
-        &descriptors_to_mat(query)?,
-        &descriptors_to_mat(train)?,
-        &mut out,
-        &no_array(),
-    )
-    .map_err(|e| FeaturesError::opencv("BFMatcher::match", e))?;
-    let mut list: Vec<Match> = out.iter().filter_map(|d| to_match(&d)).collect();
+    let mut list: Vec<Match> = nearest_rows(query, train, cross_check)?
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.mutual)
+        .map(|(query, n)| Match {
+            query,
+            train: n.train,
+            distance: n.distance,
+        })
+        .collect();
     list.sort_by(|a, b| a.distance.total_cmp(&b.distance));
     Ok(list)
 }
 
 /// kNN (k = 2) matches, without cross-check: `(passed, total)` where `passed` are the best
 /// matches whose distance is below `ratio` × the second best's (Lowe's test) and `total` is
-/// the number of query rows with two neighbours.
+/// the number of query rows with two neighbours (all of them when the train set has two
+/// rows or more, as OpenCV's `knnMatch(k=2)`).
 pub fn knn_ratio(
     query: &Descriptors,
     train: &Descriptors,
     ratio: f32,
 ) -> Result<(Vec<Match>, usize), FeaturesError> {
-    let Some(m) = matcher(query, train, false)? else {
+    let list = nearest_rows(query, train, false)?;
+    if train.rows < 2 {
         return Ok((Vec::new(), 0));
-    };
-    let mut out = Vector::<Vector<DMatch>>::new();
-    m.knn_train_match(
-        &descriptors_to_mat(query)?,
-        &descriptors_to_mat(train)?,
-        &mut out,
-        2,
-        &no_array(),
-        false,
-    )
-    .map_err(|e| FeaturesError::opencv("BFMatcher::knnMatch", e))?;
-    let mut passed = Vec::new();
-    let mut total = 0;
-    for pair in out.iter() {
-        let (Ok(a), Ok(b)) = (pair.get(0), pair.get(1)) else {
-            continue;
-        };
-        total += 1;
-        if a.distance < ratio * b.distance {
-            passed.extend(to_match(&a));
-        }
     }
-    Ok((passed, total))
+    let passed = list
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.distance < ratio * n.second)
+        .map(|(query, n)| Match {
+            query,
+            train: n.train,
+            distance: n.distance,
+        })
+        .collect();
+    Ok((passed, list.len()))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use keylo_core::DescriptorData;
 
     fn binary(rows: &[[u8; 4]]) -> Descriptors {
         Descriptors {
