@@ -69,28 +69,18 @@ pub fn write(dir: &Path, rows: &[DegeneracyRow]) -> Result<()> {
     if rows.is_empty() {
         return Ok(());
     }
-    let mut text = String::with_capacity(160 * (rows.len() + 1));
-    text.push_str(DEGENERACY_CSV_HEADER);
-    text.push('\n');
-    for r in rows {
+    let sci = |x: &f64| format!("{x:.6e}");
+    let records = rows.iter().map(|r| {
         let d = &r.degeneracy;
-        let join = |v: &[f64]| {
-            v.iter()
-                .map(|x| format!("{x:.6e}"))
-                .collect::<Vec<_>>()
-                .join(",")
-        };
-        text.push_str(&format!(
-            "{},{:.6e},{},{},{},{:.3},{}\n",
-            r.frame,
-            d.condition,
-            d.weak,
-            join(&d.eigenvalues),
-            join(&d.eigenvectors[0]),
-            d.length_scale,
-            d.residuals
-        ));
-    }
+        let mut fields = vec![r.frame.to_string(), sci(&d.condition), d.weak.to_string()];
+        fields.extend(d.eigenvalues.iter().map(sci));
+        fields.extend(d.eigenvectors[0].iter().map(sci));
+        fields.push(format!("{:.3}", d.length_scale));
+        fields.push(d.residuals.to_string());
+        fields
+    });
+    let header: Vec<&str> = DEGENERACY_CSV_HEADER.split(',').collect();
+    let text = keylo::io::csv_table::table(&header, records);
     let p = dir.join("degeneracy.csv");
     std::fs::write(&p, text).with_context(|| format!("writing {}", p.display()))
 }

@@ -149,17 +149,16 @@ pub const FRAMES_CSV_HEADER: &str =
 impl FrameRow {
     /// This frame's line of `frames.csv` (with its newline).
     pub fn csv_line(&self) -> String {
-        let rss = self.rss_mb.map_or(String::new(), |v| format!("{v:.1}"));
-        format!(
-            "{},{:.6},{},{},{},{},{:.3},{rss}\n",
-            self.frame,
-            self.stamp,
-            self.keypoints,
-            self.cloud_points,
-            self.registered_points,
-            self.map_points,
-            self.odometry_ms
-        )
+        keylo::io::csv_table::line([
+            self.frame.to_string(),
+            format!("{:.6}", self.stamp),
+            self.keypoints.to_string(),
+            self.cloud_points.to_string(),
+            self.registered_points.to_string(),
+            self.map_points.to_string(),
+            format!("{:.3}", self.odometry_ms),
+            self.rss_mb.map_or(String::new(), |v| format!("{v:.1}")),
+        ])
     }
 }
 

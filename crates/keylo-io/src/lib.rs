@@ -7,6 +7,7 @@
 //!   `keylo-eval`, which reads no file).
 
 pub mod cloud;
+pub mod csv_table;
 mod error;
 pub mod export;
 pub mod folder;

@@ -34,7 +34,7 @@ pub use combos::{parse_combos, Combo, ComboSet};
 pub use error::KpEvalError;
 pub use params::{MetricParams, ScalingHomography};
 pub use plane::Plane;
-pub use record::{Row, CSV_HEADER};
+pub use record::{csv_columns, Row, CSV_HEADER};
 pub use repeat::repeatability;
 pub use runner::{evaluate, EvalOptions};
 pub use spec::{EvalSpec, ImageSpec, Preset};

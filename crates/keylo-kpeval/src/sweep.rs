@@ -150,22 +150,23 @@ impl CellResult {
         self.means.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
     }
 
-    fn csv(&self) -> String {
-        let mut line = format!(
-            "{},{},{},{},{}",
-            self.interpolation, self.width, self.height, self.combo, self.images
-        );
+    /// The CSV fields, in [`csv_header`] order.
+    fn record(&self) -> Vec<String> {
+        let mut fields = vec![
+            self.interpolation.clone(),
+            self.width.to_string(),
+            self.height.to_string(),
+            self.combo.clone(),
+            self.images.to_string(),
+        ];
         for m in METRICS {
-            line.push(',');
-            if let Some(v) = self.mean(m.key) {
-                line.push_str(&v.to_string());
-            }
+            fields.push(self.mean(m.key).map_or_else(String::new, |v| v.to_string()));
         }
-        line
+        fields
     }
 
-    fn parse(line: &str) -> Option<Self> {
-        let f: Vec<&str> = line.split(',').collect();
+    /// A record read back; `None` for one cut short (a kill mid-write) or unreadable.
+    fn from_record(f: &[String]) -> Option<Self> {
         if f.len() != 5 + METRICS.len() {
             return None;
         }
@@ -175,49 +176,48 @@ impl CellResult {
             .filter_map(|(m, v)| v.parse::<f64>().ok().map(|v| (m.key.to_string(), v)))
             .collect();
         Some(Self {
-            interpolation: f[0].to_string(),
+            interpolation: f[0].clone(),
             width: f[1].parse().ok()?,
             height: f[2].parse().ok()?,
-            combo: f[3].to_string(),
+            combo: f[3].clone(),
             images: f[4].parse().ok()?,
             means,
         })
     }
 }
 
-/// The header of the sweep CSV.
-pub fn csv_header() -> String {
-    let mut h = String::from("interpolation,width,height,combo,images");
-    for m in METRICS {
-        h.push(',');
-        h.push_str(m.key);
-    }
+/// The columns of the sweep CSV.
+pub fn csv_header() -> Vec<String> {
+    let mut h: Vec<String> = ["interpolation", "width", "height", "combo", "images"]
+        .map(String::from)
+        .to_vec();
+    h.extend(METRICS.iter().map(|m| m.key.to_string()));
     h
 }
 
 /// Results found in an earlier sweep's CSV (a missing file: none). A file with another
 /// header is refused rather than mixed with.
 pub fn read_store(path: &Path) -> Result<Vec<CellResult>, KpEvalError> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(KpEvalError::io(path, e)),
-    };
-    let mut lines = text.lines();
-    match lines.next() {
-        None => return Ok(Vec::new()),
-        Some(h) if h == csv_header() => {}
-        Some(_) => {
-            return Err(KpEvalError::Format {
-                path: path.to_path_buf(),
-                message: "not a keylo sweep CSV of this version (header differs): \
-                          use another --out or delete it"
-                    .into(),
-            })
-        }
+    if !path.exists() || std::fs::metadata(path).is_ok_and(|m| m.len() == 0) {
+        return Ok(Vec::new());
     }
-    // A line cut short by a kill mid-write is ignored (that cell is run again).
-    Ok(lines.filter_map(CellResult::parse).collect())
+    let (header, records) = keylo_io::csv_table::read(path).map_err(|e| KpEvalError::Format {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    if header != csv_header() {
+        return Err(KpEvalError::Format {
+            path: path.to_path_buf(),
+            message: "not a keylo sweep CSV of this version (header differs): \
+                      use another --out or delete it"
+                .into(),
+        });
+    }
+    // A record cut short by a kill mid-write is ignored (that cell is run again).
+    Ok(records
+        .iter()
+        .filter_map(|r| CellResult::from_record(r))
+        .collect())
 }
 
 /// How a sweep runs.
@@ -344,7 +344,10 @@ pub fn run_sweep(
             }
         }
         if let Ok(mut f) = store.lock() {
-            let text: String = out.iter().map(|r| r.csv() + "\n").collect();
+            let text: String = out
+                .iter()
+                .map(|r| keylo_io::csv_table::line(r.record()))
+                .collect();
             // A failed write only loses resumability of this cell.
             let _ = f.write_all(text.as_bytes()).and_then(|()| f.flush());
         }
@@ -398,7 +401,8 @@ fn open_store(path: &Path, fresh: bool) -> Result<Mutex<std::fs::File>, KpEvalEr
         .map_err(|e| KpEvalError::io(path, e))?;
     if fresh {
         f.set_len(0).map_err(|e| KpEvalError::io(path, e))?;
-        writeln!(f, "{}", csv_header()).map_err(|e| KpEvalError::io(path, e))?;
+        f.write_all(keylo_io::csv_table::line(csv_header()).as_bytes())
+            .map_err(|e| KpEvalError::io(path, e))?;
     }
     Ok(Mutex::new(f))
 }

@@ -284,16 +284,13 @@ fn xy(t: &Trajectory) -> Vec<(f64, f64)> {
 }
 
 fn read_frames(path: &Path, series: &mut Series) {
-    let Ok(text) = std::fs::read_to_string(path) else {
+    let Ok((header, records)) = keylo::io::csv_table::read(path) else {
         return;
     };
-    let mut lines = text.lines();
     // Columns by name, so files of older layouts (without `map_points`) still read.
-    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name);
+    let col = |name: &str| header.iter().position(|h| h == name);
     let (points, ms, rss) = (col("cloud_points"), col("odometry_ms"), col("rss_mb"));
-    for line in lines {
-        let cols: Vec<&str> = line.split(',').collect();
+    for cols in &records {
         let num = |i: Option<usize>| i.and_then(|i| cols.get(i)?.parse::<f64>().ok());
         let Some(frame) = num(Some(0)) else { continue };
         if let Some(p) = num(points) {

@@ -57,29 +57,18 @@ fn as_values(rows: &[Row]) -> Vec<Value> {
         .collect()
 }
 
-/// CSV of every run, full precision for numbers (quotes where a field needs them).
+/// CSV of every run, full precision for numbers (quoted where a field needs it).
 pub fn csv(rows: &[Row]) -> String {
-    let mut out = columns().map(|c| c.0).collect::<Vec<_>>().join(",");
-    out.push('\n');
-    for v in as_values(rows) {
-        let fields: Vec<String> = columns()
+    let header: Vec<&str> = columns().map(|c| c.0).collect();
+    let records = as_values(rows).into_iter().map(|v| {
+        columns()
             .map(|c| match v.get(c.0) {
                 Some(Value::Number(n)) => n.to_string(),
-                _ => quote(&cell(&v, c.0, 0)),
+                _ => cell(&v, c.0, 0),
             })
-            .collect();
-        out.push_str(&fields.join(","));
-        out.push('\n');
-    }
-    out
-}
-
-fn quote(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
+            .collect::<Vec<String>>()
+    });
+    keylo::io::csv_table::table(&header, records)
 }
 
 /// JSON of every run, with the divergence criterion.
@@ -226,4 +215,29 @@ fn full_table(rows: &[Row]) -> String {
         md.push_str(&format!("| {} |\n", cells.join(" | ")));
     }
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_comma_or_quote_in_a_field_round_trips() {
+        let row = Row {
+            data: "runs/a,b".into(),
+            config: "say \"hi\", then go".into(),
+            reason: "line one\nline two".into(),
+            ..Row::default()
+        };
+        let text = csv(std::slice::from_ref(&row));
+        let (header, records) = keylo::io::csv_table::parse(text.as_bytes()).unwrap();
+        let field = |name: &str| {
+            let i = header.iter().position(|h| h == name).unwrap();
+            records[0][i].clone()
+        };
+        assert_eq!(records.len(), 1);
+        assert_eq!(field("data"), row.data);
+        assert_eq!(field("config"), row.config);
+        assert_eq!(field("reason"), row.reason);
+    }
 }

@@ -6,7 +6,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use keylo::kpeval::{ComboSummary, Quartiles, Row, CSV_HEADER, METRICS};
+use keylo::io::csv_table::table;
+use keylo::kpeval::{csv_columns, ComboSummary, Quartiles, Row, METRICS};
 
 /// The paper's quartiles per (figure, combination), from `paper-figure-medians.tsv`.
 #[derive(Debug, Default)]
@@ -73,13 +74,8 @@ impl PaperFigures {
 
 /// `per_image.csv`.
 pub fn per_image_csv(rows: &[Row]) -> String {
-    let mut out = String::from(CSV_HEADER);
-    out.push('\n');
-    for r in rows {
-        out.push_str(&r.csv());
-        out.push('\n');
-    }
-    out
+    let header: Vec<&str> = csv_columns().collect();
+    table(&header, rows.iter().map(Row::record))
 }
 
 fn num(v: f64) -> String {
@@ -94,33 +90,46 @@ fn num(v: f64) -> String {
 
 /// `summary.csv`: one line per combination and metric.
 pub fn summary_csv(summaries: &[ComboSummary], paper: Option<&PaperFigures>) -> String {
-    let mut out = String::from(
-        "combo,detector,descriptor,metric,n,min,q1,median,q3,max,mean,paper_q1,paper_median,paper_q3\n",
-    );
+    const HEADER: [&str; 14] = [
+        "combo",
+        "detector",
+        "descriptor",
+        "metric",
+        "n",
+        "min",
+        "q1",
+        "median",
+        "q3",
+        "max",
+        "mean",
+        "paper_q1",
+        "paper_median",
+        "paper_q3",
+    ];
+    let mut records = Vec::new();
     for s in summaries {
         for (key, q) in &s.metrics {
             let p = paper.and_then(|p| p.get(key, s));
             let pf = |v: Option<f64>| v.map_or_else(String::new, |v| v.to_string());
-            let _ = writeln!(
-                out,
-                "{},{},{},{key},{},{},{},{},{},{},{},{},{},{}",
-                s.combo,
-                s.detector,
-                s.descriptor,
-                q.n,
-                q.min,
-                q.q1,
-                q.median,
-                q.q3,
-                q.max,
-                q.mean,
+            records.push([
+                s.combo.clone(),
+                s.detector.clone(),
+                s.descriptor.clone(),
+                key.to_string(),
+                q.n.to_string(),
+                q.min.to_string(),
+                q.q1.to_string(),
+                q.median.to_string(),
+                q.q3.to_string(),
+                q.max.to_string(),
+                q.mean.to_string(),
                 pf(p.map(|x| x.0)),
                 pf(p.map(|x| x.1)),
-                pf(p.map(|x| x.2))
-            );
+                pf(p.map(|x| x.2)),
+            ]);
         }
     }
-    out
+    table(&HEADER, records)
 }
 
 /// `summary.md`: medians per combination (paper medians in parentheses when known).
