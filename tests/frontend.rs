@@ -121,7 +121,14 @@ fn bad_point_arrays_are_errors_naming_them() {
         .unwrap_err();
     let text = err.to_string();
     assert!(text.contains("`times` has 1 values for 2 points"), "{text}");
-    assert!(matches!(err, keylo::Error::Points(_)));
+    assert!(matches!(
+        err,
+        keylo::Error::TimesLength {
+            times: 1,
+            points: 2,
+            ..
+        }
+    ));
     // NaN points are dropped; a scan of nothing but NaN has no point to register: KISS-ICP
     // predicts (upstream's behaviour), reporting 0 registered points.
     let nan = [[f64::NAN, 0.0, 0.0], [0.0, f64::INFINITY, 1.0]];
@@ -140,7 +147,33 @@ fn bad_point_arrays_are_errors_naming_them() {
     let err = Frontend::from_toml("[source.projection]\nrows = 'many'\n", ".")
         .err()
         .unwrap();
-    assert!(err.to_string().contains("[source.projection]"), "{err}");
+    assert!(err.to_string().contains("source.projection.rows"), "{err}");
+    // A value the projection cannot take is a typed error naming the key.
+    let err = Frontend::from_toml("[source.projection]\nrows = 0\n", ".")
+        .err()
+        .unwrap();
+    assert!(matches!(err, keylo::Error::Projection(_)), "{err}");
+    assert!(err.to_string().contains("projection.rows = 0"), "{err}");
+    // A ring beyond the grid's rows: the frame and the ring are named.
+    let mut rings =
+        Frontend::from_toml("[source.projection]\nrows = 4\nrow_from = 'ring'\n", ".").unwrap();
+    let cloud = keylo::io::cloud::RawCloud {
+        timestamp: 0.0,
+        points: vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        ring: Some(vec![0, 9]),
+        ..Default::default()
+    };
+    let err = rings.push_cloud(&cloud).err().unwrap();
+    assert!(
+        matches!(
+            err,
+            keylo::Error::Points {
+                frame: 0,
+                source: keylo::io::cloud::CloudError::RingOutOfRange { ring: 9, rows: 4 }
+            }
+        ),
+        "{err}"
+    );
     // So does a bad key of a stage, with its path.
     let raw = RawConfig::parse("t", "[registrar]\nkind = 'kiss-icp'\nmax_rnage = 3\n").unwrap();
     let err = Frontend::from_raw(raw, keylo::registry()).err().unwrap();

@@ -13,8 +13,21 @@ pub enum Error {
     #[cfg(feature = "plugins")]
     #[error(transparent)]
     Plugin(#[from] keylo_plugin::PluginError),
-    /// Points handed to `push_points`/`push_cloud` that cannot make a frame (wrong lengths,
-    /// a ring outside the grid, …), or a bad `[source.projection]`.
-    #[error("{0}")]
-    Points(String),
+    /// A `[source.projection]` value the projection cannot take.
+    #[error("[source.projection]: {0}")]
+    Projection(keylo_io::cloud::CloudError),
+    /// A cloud handed to `push_points`/`push_cloud` that cannot make a frame (fields of
+    /// another length than the points, a ring outside the grid, …).
+    #[error("frame {frame}: points: {source}")]
+    Points {
+        frame: u64,
+        source: keylo_io::cloud::CloudError,
+    },
+    /// `push_points` with another number of times than points.
+    #[error("frame {frame}: `times` has {times} values for {points} points (one time per point expected)")]
+    TimesLength {
+        frame: u64,
+        times: usize,
+        points: usize,
+    },
 }

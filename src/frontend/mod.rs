@@ -101,8 +101,8 @@ impl Frontend {
 
     /// A frontend around stages you built (or changed) yourself.
     pub fn with_odometry(odometry: Odometry, projection: &ProjectionConfig) -> Result<Self, Error> {
-        let mut projector = Projector::from_config(projection, Sensor::Generic)
-            .map_err(|m| Error::Points(format!("[source.projection]: {m}")))?;
+        let mut projector =
+            Projector::from_config(projection, Sensor::Generic).map_err(Error::Projection)?;
         projector.set_grid_needed(odometry.needs_grid());
         let beams = projector.beams().clone();
         Ok(Self {
@@ -126,12 +126,11 @@ impl Frontend {
         times: Option<&[f64]>,
     ) -> Result<&FrameOutput, Error> {
         if let Some(t) = times.filter(|t| t.len() != points.len()) {
-            return Err(Error::Points(format!(
-                "frame {}: `times` has {} values for {} points (one time per point expected)",
-                self.frames,
-                t.len(),
-                points.len()
-            )));
+            return Err(Error::TimesLength {
+                frame: self.frames,
+                times: t.len(),
+                points: points.len(),
+            });
         }
         let cloud = RawCloud {
             timestamp: stamp,
@@ -151,7 +150,10 @@ impl Frontend {
         let frame = self
             .projector
             .project(cloud, self.frames)
-            .map_err(|m| Error::Points(format!("frame {}: points: {m}", self.frames)))?;
+            .map_err(|source| Error::Points {
+                frame: self.frames,
+                source,
+            })?;
         self.process(&frame)
     }
 
@@ -260,7 +262,11 @@ fn projection_of(raw: &RawConfig) -> Result<ProjectionConfig, Error> {
     match table {
         None => Ok(ProjectionConfig::default()),
         Some(t) => parse_params::<ProjectionConfig>(t).map_err(|(path, message)| {
-            Error::Points(format!("[source.projection] `{path}`: {message}"))
+            Error::Config(keylo_core::ConfigError::Invalid {
+                origin: raw.origin.clone(),
+                path: format!("source.projection.{path}"),
+                message,
+            })
         }),
     }
 }

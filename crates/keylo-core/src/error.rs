@@ -41,6 +41,31 @@ pub enum ConfigError {
     Override { text: String, message: String },
 }
 
+/// A frame or scan whose arrays disagree in length, or hold an index or value out of range;
+/// names the field.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ShapeError {
+    /// An array of another length than the frame's shape says.
+    #[error("{field} has {len} entries, expected {what} = {expected}")]
+    Length {
+        field: &'static str,
+        len: usize,
+        /// What the length should equal (`rows*cols`, `cols`, `points`).
+        what: &'static str,
+        expected: usize,
+    },
+    /// An index array with an entry beyond what it indexes.
+    #[error("{field} has an entry >= {what} = {limit}")]
+    IndexOutOfRange {
+        field: &'static str,
+        what: &'static str,
+        limit: usize,
+    },
+    /// A scan point with a NaN or infinite coordinate.
+    #[error("scan.points holds a non-finite coordinate")]
+    NonFinitePoint,
+}
+
 /// An error raised while building or running a stage.
 #[derive(Debug, thiserror::Error)]
 pub enum CoreError {

@@ -8,7 +8,7 @@ use nalgebra::Point3;
 use serde::{Deserialize, Serialize};
 
 use crate::scan::{PixelPoints, ScanPoints};
-use crate::PointCloud;
+use crate::{PointCloud, ShapeError};
 
 /// One of the per-pixel channels of a [`LidarFrame`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
@@ -185,7 +185,7 @@ impl LidarFrame {
     }
 
     /// Checks that every grid has `rows * cols` entries and `column_times` has `cols`.
-    pub fn check_shape(&self) -> Result<(), String> {
+    pub fn check_shape(&self) -> Result<(), ShapeError> {
         let n = self.rows * self.cols;
         let grids = [
             ("range", self.range.len()),
@@ -195,25 +195,27 @@ impl LidarFrame {
             ("points", self.points.len()),
             ("valid", self.valid.len()),
         ];
-        for (name, len) in grids {
+        let pixel_times = self.pixel_times.as_ref().map(Vec::len);
+        for (field, len) in grids
+            .into_iter()
+            .chain(pixel_times.map(|l| ("pixel_times", l)))
+        {
             if len != n {
-                return Err(format!(
-                    "{name} has {len} entries, expected rows*cols = {n}"
-                ));
+                return Err(ShapeError::Length {
+                    field,
+                    len,
+                    what: "rows*cols",
+                    expected: n,
+                });
             }
         }
-        if let Some(t) = self.pixel_times.as_ref().filter(|t| t.len() != n) {
-            return Err(format!(
-                "pixel_times has {} entries, expected rows*cols = {n}",
-                t.len()
-            ));
-        }
         if self.column_times.len() != self.cols {
-            return Err(format!(
-                "column_times has {} entries, expected cols = {}",
-                self.column_times.len(),
-                self.cols
-            ));
+            return Err(ShapeError::Length {
+                field: "column_times",
+                len: self.column_times.len(),
+                what: "cols",
+                expected: self.cols,
+            });
         }
         match &self.scan {
             Some(scan) => scan.check(n),
@@ -360,7 +362,19 @@ mod tests {
         let mut f = LidarFrame::empty(0, 0.0, 2, 3, beams());
         f.signal.pop();
         let err = f.check_shape().err().unwrap();
-        assert!(err.contains("signal"), "{err}");
+        assert_eq!(
+            err,
+            ShapeError::Length {
+                field: "signal",
+                len: 5,
+                what: "rows*cols",
+                expected: 6
+            }
+        );
+        assert_eq!(
+            err.to_string(),
+            "signal has 5 entries, expected rows*cols = 6"
+        );
     }
 
     #[test]

@@ -25,7 +25,7 @@ pub mod voxel;
 
 pub use cloud::PointCloud;
 pub use degeneracy::Degeneracy;
-pub use error::{ConfigError, CoreError};
+pub use error::{ConfigError, CoreError, ShapeError};
 pub use features::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
 pub use frame::{BeamGeometry, Channel, LidarFrame};
 pub use image::Image;

@@ -26,6 +26,17 @@ pub fn check_rigid(t: &Pose, what: &str) -> Result<(), CoreError> {
     Ok(())
 }
 
+/// Why a row-major 4x4 matrix is not a rigid transform.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum RigidError {
+    #[error("a non-finite entry")]
+    NonFinite,
+    #[error("the last row is not 0 0 0 1")]
+    LastRow,
+    #[error("the 3x3 part is not a rotation")]
+    NotRotation,
+}
+
 /// A row-major 4x4 rigid transform as a pose; the error says why `m` is not one
 /// (a non-finite entry, a last row other than `0 0 0 1`, or a 3x3 part that is not a rotation
 /// within 1e-6).
@@ -36,21 +47,21 @@ pub fn check_rigid(t: &Pose, what: &str) -> Result<(), CoreError> {
 /// assert_eq!(pose_from_matrix(&pose_to_matrix(&pose)).unwrap(), pose);
 /// let mut scaled = pose_to_matrix(&pose);
 /// scaled[0] = 2.0;
-/// assert!(pose_from_matrix(&scaled).unwrap_err().contains("not a rotation"));
+/// assert_eq!(pose_from_matrix(&scaled), Err(keylo_core::rigid::RigidError::NotRotation));
 /// ```
-pub fn pose_from_matrix(m: &[f64; 16]) -> Result<Pose, String> {
+pub fn pose_from_matrix(m: &[f64; 16]) -> Result<Pose, RigidError> {
     if !m.iter().all(|v| v.is_finite()) {
-        return Err("a non-finite entry".into());
+        return Err(RigidError::NonFinite);
     }
     if m[12..] != [0.0, 0.0, 0.0, 1.0] {
-        return Err("the last row is not 0 0 0 1".into());
+        return Err(RigidError::LastRow);
     }
     let r = nalgebra::Matrix3::new(m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]);
     let off = (r.transpose() * r - nalgebra::Matrix3::identity())
         .abs()
         .max();
     if off > 1e-6 || r.determinant() < 0.0 {
-        return Err("the 3x3 part is not a rotation".into());
+        return Err(RigidError::NotRotation);
     }
     let rotation = nalgebra::UnitQuaternion::from_matrix(&r);
     let translation = nalgebra::Translation3::new(m[3], m[7], m[11]);

@@ -6,6 +6,7 @@
 //! Organised sources (Ouster, the simulator, organised `PointCloud2`) deliver one point per
 //! pixel and carry no `ScanPoints`.
 
+use crate::ShapeError;
 use nalgebra::Point3;
 use serde::{Deserialize, Serialize};
 
@@ -53,39 +54,54 @@ impl ScanPoints {
 
     /// Checks that every per-point field has one entry per point, `pixel_to_point` one per
     /// of the `pixels` grid pixels, and every index is in range; the error names the field.
-    pub fn check(&self, pixels: usize) -> Result<(), String> {
+    pub fn check(&self, pixels: usize) -> Result<(), ShapeError> {
         let n = self.points.len();
         let lens = [
-            ("times", self.times.as_ref().map(Vec::len)),
-            ("intensity", self.intensity.as_ref().map(Vec::len)),
-            ("ring", self.ring.as_ref().map(Vec::len)),
-            ("source_index", Some(self.source_index.len())),
-            ("pixel", Some(self.pixel.len())),
+            ("scan.times", self.times.as_ref().map(Vec::len)),
+            ("scan.intensity", self.intensity.as_ref().map(Vec::len)),
+            ("scan.ring", self.ring.as_ref().map(Vec::len)),
+            ("scan.source_index", Some(self.source_index.len())),
+            ("scan.pixel", Some(self.pixel.len())),
         ];
-        for (name, len) in lens {
+        for (field, len) in lens {
             if let Some(len) = len.filter(|&l| l != n) {
-                return Err(format!("scan.{name} has {len} entries for {n} points"));
+                return Err(ShapeError::Length {
+                    field,
+                    len,
+                    what: "points",
+                    expected: n,
+                });
             }
         }
         if self.pixel_to_point.len() != pixels {
-            return Err(format!(
-                "scan.pixel_to_point has {} entries, expected rows*cols = {pixels}",
-                self.pixel_to_point.len()
-            ));
+            return Err(ShapeError::Length {
+                field: "scan.pixel_to_point",
+                len: self.pixel_to_point.len(),
+                what: "rows*cols",
+                expected: pixels,
+            });
         }
         let outside = |v: &u32, limit: usize| *v != Self::NONE && *v as usize >= limit;
         if self.pixel.iter().any(|p| outside(p, pixels)) {
-            return Err(format!("scan.pixel has an entry >= rows*cols = {pixels}"));
+            return Err(ShapeError::IndexOutOfRange {
+                field: "scan.pixel",
+                what: "rows*cols",
+                limit: pixels,
+            });
         }
         if self.pixel_to_point.iter().any(|p| outside(p, n)) {
-            return Err(format!("scan.pixel_to_point has an entry >= {n} points"));
+            return Err(ShapeError::IndexOutOfRange {
+                field: "scan.pixel_to_point",
+                what: "points",
+                limit: n,
+            });
         }
         if self
             .points
             .iter()
             .any(|p| !p.coords.iter().all(|v| v.is_finite()))
         {
-            return Err("scan.points holds a non-finite coordinate".into());
+            return Err(ShapeError::NonFinitePoint);
         }
         Ok(())
     }
@@ -205,14 +221,18 @@ mod tests {
     #[test]
     fn check_names_the_bad_field() {
         let mut s = scan();
-        assert!(s.check(4).unwrap_err().contains("pixel_to_point"));
+        assert!(s
+            .check(4)
+            .unwrap_err()
+            .to_string()
+            .contains("pixel_to_point"));
         s.pixel[0] = 7;
-        assert!(s.check(3).unwrap_err().contains("scan.pixel"));
+        assert!(s.check(3).unwrap_err().to_string().contains("scan.pixel"));
         let mut s = scan();
         s.times = Some(vec![0.0]);
-        assert!(s.check(3).unwrap_err().contains("scan.times"));
+        assert!(s.check(3).unwrap_err().to_string().contains("scan.times"));
         let mut s = scan();
         s.points[2].x = f64::NAN;
-        assert!(s.check(3).unwrap_err().contains("non-finite"));
+        assert!(s.check(3).unwrap_err().to_string().contains("non-finite"));
     }
 }

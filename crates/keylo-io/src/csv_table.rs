@@ -14,6 +14,15 @@ use std::path::Path;
 
 use crate::IoError;
 
+/// CSV text that cannot be read: the record (1 = the first after the header) and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TableError {
+    #[error("header: {0}")]
+    Header(String),
+    #[error("record {record}: {message}")]
+    Record { record: usize, message: String },
+}
+
 /// One CSV record with its line break, fields quoted where needed.
 pub fn line<I, F>(fields: I) -> String
 where
@@ -45,17 +54,20 @@ where
 
 /// The header and records of CSV text. Records may differ in length (a line cut short by a
 /// killed writer is the caller's to skip); an error names the record.
-pub fn parse(text: &[u8]) -> Result<(Vec<String>, Vec<Vec<String>>), String> {
+pub fn parse(text: &[u8]) -> Result<(Vec<String>, Vec<Vec<String>>), TableError> {
     let mut r = csv::ReaderBuilder::new().flexible(true).from_reader(text);
     let header = r
         .headers()
-        .map_err(|e| e.to_string())?
+        .map_err(|e| TableError::Header(e.to_string()))?
         .iter()
         .map(str::to_string)
         .collect();
     let mut records = Vec::new();
     for (i, rec) in r.records().enumerate() {
-        let rec = rec.map_err(|e| format!("record {}: {e}", i + 1))?;
+        let rec = rec.map_err(|e| TableError::Record {
+            record: i + 1,
+            message: e.to_string(),
+        })?;
         records.push(rec.iter().map(str::to_string).collect());
     }
     Ok((header, records))

@@ -21,10 +21,10 @@ impl IoError {
             source,
         }
     }
-    pub(crate) fn format(path: &std::path::Path, message: impl Into<String>) -> Self {
+    pub(crate) fn format(path: &std::path::Path, message: impl std::fmt::Display) -> Self {
         Self::Format {
             path: path.to_path_buf(),
-            message: message.into(),
+            message: message.to_string(),
         }
     }
 }

@@ -1,5 +1,17 @@
 //! Rate control shared by every source: `start`, `stride`, `max_frames`.
 
+/// Why a selection reads no frame.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SelectionError {
+    #[error("`source.stride` = 0; expected 1 or more (1 reads every frame)")]
+    ZeroStride,
+    #[error("`source.start` = {start} but the source holds {total} frames (0..{total})")]
+    StartBeyondEnd { start: usize, total: usize },
+    /// A file sequence whose stamps do not pair with its files.
+    #[error("{stamps} stamps for {files} files")]
+    StampCount { stamps: usize, files: usize },
+}
+
 /// Which frames of a source are read: frame `start`, then every `stride`-th, at most
 /// `max_frames` of them (0 = no limit). Indices count the frames of the source as stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -11,9 +23,9 @@ pub struct FrameSelection {
 
 impl FrameSelection {
     /// Checks the values; the error names the key.
-    pub fn new(start: usize, stride: usize, max_frames: usize) -> Result<Self, String> {
+    pub fn new(start: usize, stride: usize, max_frames: usize) -> Result<Self, SelectionError> {
         if stride == 0 {
-            return Err("`source.stride` = 0; expected 1 or more (1 reads every frame)".into());
+            return Err(SelectionError::ZeroStride);
         }
         Ok(Self {
             start,
@@ -38,19 +50,19 @@ impl FrameSelection {
 
     /// The selected indices of a source holding `total` frames; the error says why none is
     /// selected.
-    pub fn indices(&self, total: usize) -> Result<Vec<usize>, String> {
+    pub fn indices(&self, total: usize) -> Result<Vec<usize>, SelectionError> {
         if self.start >= total {
-            return Err(format!(
-                "`source.start` = {} but the source holds {total} frames (0..{total})",
-                self.start
-            ));
+            return Err(SelectionError::StartBeyondEnd {
+                start: self.start,
+                total,
+            });
         }
         Ok((self.start..total).filter(|&i| self.wants(i)).collect())
     }
 
     /// How many frames of a source holding `total` are selected, without listing them (a
     /// recording's index may declare any count); the error is that of [`Self::indices`].
-    pub fn count(&self, total: usize) -> Result<usize, String> {
+    pub fn count(&self, total: usize) -> Result<usize, SelectionError> {
         if self.start >= total {
             return self.indices(total).map(|v| v.len());
         }
@@ -77,8 +89,15 @@ mod tests {
             FrameSelection::new(0, 1, 0).unwrap().indices(3).unwrap(),
             vec![0, 1, 2]
         );
-        assert!(s.indices(1).unwrap_err().contains("source.start"));
-        assert!(FrameSelection::new(0, 0, 0).unwrap_err().contains("stride"));
+        assert!(s
+            .indices(1)
+            .unwrap_err()
+            .to_string()
+            .contains("source.start"));
+        assert_eq!(
+            FrameSelection::new(0, 0, 0).unwrap_err(),
+            SelectionError::ZeroStride
+        );
     }
 
     #[test]

@@ -11,13 +11,44 @@ use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion};
 
 use crate::abi::*;
 
+/// A buffer crossing the plugin ABI that does not hold what its fields say (a NULL pointer
+/// with a length, a length that overflows, a non-finite pose, a string that is not UTF-8);
+/// the message names the field.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct AbiError {
+    message: String,
+}
+
+impl AbiError {
+    /// What is wrong.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+}
+
+impl From<String> for AbiError {
+    fn from(message: String) -> Self {
+        Self { message }
+    }
+}
+
+impl From<&str> for AbiError {
+    fn from(message: &str) -> Self {
+        Self {
+            message: message.into(),
+        }
+    }
+}
+
 /// `value` as a `u32` ABI field, or a message naming `what`.
-pub fn to_u32(value: usize, what: &str) -> Result<u32, String> {
-    u32::try_from(value).map_err(|_| format!("{what} = {value} does not fit the ABI's 32 bits"))
+pub fn to_u32(value: usize, what: &str) -> Result<u32, AbiError> {
+    u32::try_from(value)
+        .map_err(|_| AbiError::from(format!("{what} = {value} does not fit the ABI's 32 bits")))
 }
 
 /// A borrowed ABI view of `image`; `name` is the image name as a C string.
-pub fn image_view(image: &Image, name: &CStr) -> Result<KeyloImage, String> {
+pub fn image_view(image: &Image, name: &CStr) -> Result<KeyloImage, AbiError> {
     Ok(KeyloImage {
         width: to_u32(image.width, "image width")?,
         height: to_u32(image.height, "image height")?,
@@ -105,12 +136,16 @@ pub fn registration_to_abi(reg: &Registration, map_size: usize) -> KeyloRegistra
 ///
 /// # Safety
 /// `ptr` must point to `len` readable, initialised elements (or be NULL).
-pub unsafe fn copy_slice<T: Copy>(ptr: *const T, len: usize, what: &str) -> Result<Vec<T>, String> {
+pub unsafe fn copy_slice<T: Copy>(
+    ptr: *const T,
+    len: usize,
+    what: &str,
+) -> Result<Vec<T>, AbiError> {
     if len == 0 {
         return Ok(Vec::new());
     }
     if ptr.is_null() {
-        return Err(format!("{what}: NULL pointer for {len} elements"));
+        return Err(format!("{what}: NULL pointer for {len} elements").into());
     }
     // SAFETY: non-null, and the caller guarantees `len` initialised elements.
     Ok(unsafe { std::slice::from_raw_parts(ptr, len) }.to_vec())
@@ -129,7 +164,7 @@ pub unsafe fn copy_optional<T: Copy>(ptr: *const T, len: usize) -> Option<Vec<T>
 ///
 /// # Safety
 /// `list.data` must point to `list.len` keypoints (or be NULL with `len` 0).
-pub unsafe fn keypoints_from_abi(list: &KeyloKeypoints) -> Result<Vec<Keypoint>, String> {
+pub unsafe fn keypoints_from_abi(list: &KeyloKeypoints) -> Result<Vec<Keypoint>, AbiError> {
     // SAFETY: forwarded from the caller.
     let raw = unsafe { copy_slice(list.data, list.len, "keypoints") }?;
     Ok(raw
@@ -150,7 +185,7 @@ pub unsafe fn keypoints_from_abi(list: &KeyloKeypoints) -> Result<Vec<Keypoint>,
 ///
 /// # Safety
 /// `d.data` must point to `rows * dim` elements of `element_type` (or be NULL with 0 rows).
-pub unsafe fn descriptors_from_abi(d: &KeyloDescriptors) -> Result<Descriptors, String> {
+pub unsafe fn descriptors_from_abi(d: &KeyloDescriptors) -> Result<Descriptors, AbiError> {
     let n = d
         .rows
         .checked_mul(d.dim)
@@ -167,7 +202,7 @@ pub unsafe fn descriptors_from_abi(d: &KeyloDescriptors) -> Result<Descriptors, 
         other => {
             return Err(format!(
                 "descriptors: element_type {other}, expected {KEYLO_DESCRIPTOR_U8} (u8) or {KEYLO_DESCRIPTOR_F32} (f32)"
-            ))
+            ).into())
         }
     };
     Ok(Descriptors {
@@ -182,7 +217,7 @@ pub unsafe fn descriptors_from_abi(d: &KeyloDescriptors) -> Result<Descriptors, 
 /// # Safety
 /// The pointers of `c` must hold `3 * len`, `len` and `len` elements (or be NULL where
 /// optional).
-pub unsafe fn cloud_from_abi(c: &KeyloCloud) -> Result<PointCloud, String> {
+pub unsafe fn cloud_from_abi(c: &KeyloCloud) -> Result<PointCloud, AbiError> {
     let n3 = c
         .len
         .checked_mul(3)
@@ -204,7 +239,7 @@ pub unsafe fn cloud_from_abi(c: &KeyloCloud) -> Result<PointCloud, String> {
 }
 
 /// An ABI registration as keylo's, checked to be finite with a non-zero quaternion.
-pub fn registration_from_abi(r: &KeyloRegistration) -> Result<Registration, String> {
+pub fn registration_from_abi(r: &KeyloRegistration) -> Result<Registration, AbiError> {
     let [x, y, z] = r.translation;
     let [qx, qy, qz, qw] = r.rotation;
     let all = [r.stamp, x, y, z, qx, qy, qz, qw];
@@ -212,7 +247,8 @@ pub fn registration_from_abi(r: &KeyloRegistration) -> Result<Registration, Stri
         return Err(format!(
             "registration is not finite: stamp {}, translation {:?}, rotation {:?}",
             r.stamp, r.translation, r.rotation
-        ));
+        )
+        .into());
     }
     let q = Quaternion::new(qw, qx, qy, qz);
     if q.norm() < 1e-9 {
@@ -236,15 +272,15 @@ pub fn registration_from_abi(r: &KeyloRegistration) -> Result<Registration, Stri
 ///
 /// # Safety
 /// `ptr` must be NULL or point to a NUL-terminated string.
-pub unsafe fn c_str(ptr: *const c_char, what: &str) -> Result<String, String> {
+pub unsafe fn c_str(ptr: *const c_char, what: &str) -> Result<String, AbiError> {
     if ptr.is_null() {
-        return Err(format!("{what} is NULL"));
+        return Err(format!("{what} is NULL").into());
     }
     // SAFETY: non-null and NUL-terminated per the caller.
     let s = unsafe { CStr::from_ptr(ptr) };
     s.to_str()
         .map(str::to_string)
-        .map_err(|_| format!("{what} is not UTF-8"))
+        .map_err(|_| AbiError::from(format!("{what} is not UTF-8")))
 }
 
 /// Writes `message` into `err` (truncated to fit, NUL-terminated) with `code`.

@@ -197,9 +197,9 @@ impl Odometry {
         &mut self,
         frame: &LidarFrame,
     ) -> Result<(FrameResult, FrameFeatures), CoreError> {
-        frame.check_shape().map_err(|message| CoreError::BadFrame {
+        frame.check_shape().map_err(|e| CoreError::BadFrame {
             frame: frame.index,
-            message,
+            message: e.to_string(),
         })?;
         self.check_time_order(frame)?;
         let mut timings = StageTimings::default();

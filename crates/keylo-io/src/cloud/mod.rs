@@ -5,6 +5,7 @@
 
 mod azimuth;
 mod correction;
+mod error;
 pub mod organised;
 pub mod projection;
 pub(crate) mod projection_config;
@@ -13,5 +14,6 @@ mod rows;
 mod sensors;
 
 pub use correction::{VerticalAngleCorrection, KISS_ICP_KITTI_DEG};
+pub use error::CloudError;
 pub use projection::{Grid, ProjectionConfig, Projector, RowSource, Sensor};
 pub use raw::RawCloud;

@@ -12,7 +12,7 @@ use std::sync::Arc;
 use super::azimuth::azimuth_column;
 pub use super::projection_config::{Grid, ProjectionConfig, RingOrder, RowSource, Sensor};
 use super::rows::RowLookup;
-use super::{organised::column_times, RawCloud, VerticalAngleCorrection};
+use super::{organised::column_times, CloudError, RawCloud, VerticalAngleCorrection};
 use keylo_core::{BeamGeometry, LidarFrame, ScanPoints};
 use nalgebra::Point3;
 use rayon::prelude::*;
@@ -64,7 +64,10 @@ impl Projector {
     }
 
     /// The projector of `config` for a source whose `auto` sensor is `source_default`.
-    pub fn from_config(config: &ProjectionConfig, source_default: Sensor) -> Result<Self, String> {
+    pub fn from_config(
+        config: &ProjectionConfig,
+        source_default: Sensor,
+    ) -> Result<Self, CloudError> {
         config.resolve(source_default).map(Self::new)
     }
 
@@ -85,21 +88,19 @@ impl Projector {
     }
 
     /// The frame of `cloud`; the error says which field is inconsistent.
-    pub fn project(&mut self, cloud: &RawCloud, index: u64) -> Result<LidarFrame, String> {
+    pub fn project(&mut self, cloud: &RawCloud, index: u64) -> Result<LidarFrame, CloudError> {
         cloud.check()?;
         let rings = match (self.grid.row_from, &cloud.ring) {
-            (RowSource::Ring, None) => {
-                return Err("projection.row_from = \"ring\" but the cloud has no ring field".into())
-            }
+            (RowSource::Ring, None) => return Err(CloudError::NoRing),
             (RowSource::Elevation, _) | (_, None) => None,
             (_, Some(r)) => Some(r.as_slice()),
         };
         if let Some(rings) = rings {
-            if let Some(bad) = rings.iter().find(|&&r| usize::from(r) >= self.grid.rows) {
-                return Err(format!(
-                    "ring {bad} is outside the {} projection rows (set projection.rows)",
-                    self.grid.rows
-                ));
+            if let Some(&ring) = rings.iter().find(|&&r| usize::from(r) >= self.grid.rows) {
+                return Err(CloudError::RingOutOfRange {
+                    ring,
+                    rows: self.grid.rows,
+                });
             }
             if self.top_first.is_none() {
                 self.top_first = Some(ring_zero_is_top(cloud, rings));
@@ -362,7 +363,7 @@ mod tests {
         }
     }
 
-    fn projector(c: ProjectionConfig) -> Result<Projector, String> {
+    fn projector(c: ProjectionConfig) -> Result<Projector, CloudError> {
         Projector::from_config(&c, Sensor::Generic)
     }
 
@@ -431,7 +432,10 @@ mod tests {
             ring: Some(vec![7]),
             ..RawCloud::default()
         };
-        assert!(p.project(&bad, 1).unwrap_err().contains("ring 7"));
+        assert_eq!(
+            p.project(&bad, 1).unwrap_err(),
+            CloudError::RingOutOfRange { ring: 7, rows: 4 }
+        );
     }
 
     #[test]
@@ -456,6 +460,9 @@ mod tests {
             fov_up_deg: Some(-30.0),
             ..ProjectionConfig::default()
         };
-        assert!(projector(bad).unwrap_err().contains("fov_up_deg"));
+        assert!(projector(bad)
+            .unwrap_err()
+            .to_string()
+            .contains("fov_up_deg"));
     }
 }

@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::CloudError;
+
 pub use super::sensors::Sensor;
 
 /// Where a point's row comes from.
@@ -85,7 +87,7 @@ pub struct Grid {
 impl ProjectionConfig {
     /// The grid for a source whose `auto` sensor is `source_default`, checked; the error
     /// names the key.
-    pub fn resolve(&self, source_default: Sensor) -> Result<Grid, String> {
+    pub fn resolve(&self, source_default: Sensor) -> Result<Grid, CloudError> {
         let sensor = self.sensor.or(source_default).grid();
         let table = match &self.altitudes_deg {
             Some(t) => t.clone(),
@@ -98,7 +100,11 @@ impl ProjectionConfig {
             None => Vec::new(),
         };
         if table.iter().any(|a| !a.is_finite() || a.abs() > 90.0) {
-            return Err("projection.altitudes_deg: every entry must be within -90..90".into());
+            return Err(CloudError::Projection {
+                key: "altitudes_deg",
+                value: format!("{table:?}"),
+                expected: "every entry within -90..90",
+            });
         }
         let rows = if table.is_empty() {
             self.rows.unwrap_or(sensor.rows)
@@ -106,11 +112,19 @@ impl ProjectionConfig {
             table.len()
         };
         if rows == 0 || rows > 4096 {
-            return Err(format!("projection.rows = {rows}; expected 1..=4096"));
+            return Err(CloudError::Projection {
+                key: "rows",
+                value: rows.to_string(),
+                expected: "1..=4096",
+            });
         }
         let cols = self.cols.unwrap_or(sensor.cols);
         if cols == 0 || cols > 65536 {
-            return Err(format!("projection.cols = {cols}; expected 1..=65536"));
+            return Err(CloudError::Projection {
+                key: "cols",
+                value: cols.to_string(),
+                expected: "1..=65536",
+            });
         }
         let altitudes_deg = if table.is_empty() {
             let (up, down) = (
@@ -120,9 +134,11 @@ impl ProjectionConfig {
             let fov_ok =
                 up.is_finite() && down.is_finite() && up > down && up <= 90.0 && down >= -90.0;
             if !fov_ok {
-                return Err(format!(
-                    "projection: fov_up_deg = {up} and fov_down_deg = {down}; expected -90 <= down < up <= 90"
-                ));
+                return Err(CloudError::Projection {
+                    key: "fov_up_deg/fov_down_deg",
+                    value: format!("{up}/{down}"),
+                    expected: "-90 <= fov_down_deg < fov_up_deg <= 90",
+                });
             }
             even_altitudes(up, down, rows)
         } else {
@@ -131,10 +147,11 @@ impl ProjectionConfig {
             a
         };
         if !(self.frame_rate_hz.is_finite() && self.frame_rate_hz >= 0.0) {
-            return Err(format!(
-                "projection.frame_rate_hz = {}; expected >= 0",
-                self.frame_rate_hz
-            ));
+            return Err(CloudError::Projection {
+                key: "frame_rate_hz",
+                value: self.frame_rate_hz.to_string(),
+                expected: ">= 0",
+            });
         }
         Ok(Grid {
             model: sensor.model.to_string(),
@@ -238,7 +255,7 @@ mod tests {
         ];
         for (c, key) in cases {
             let e = c.resolve(Sensor::Generic).unwrap_err();
-            assert!(e.contains(key), "{e}");
+            assert!(e.to_string().contains(key), "{e}");
         }
     }
 }

@@ -38,7 +38,7 @@ impl RawCloud {
 
     /// Checks that every per-point field has one entry per point and that `grid` covers
     /// exactly the points; the error names the field.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), super::CloudError> {
         let n = self.points.len();
         let lens = [
             ("intensity", self.intensity.as_ref().map(Vec::len)),
@@ -50,12 +50,20 @@ impl RawCloud {
         ];
         for (name, len) in lens {
             if let Some(len) = len.filter(|&l| l != n) {
-                return Err(format!("field `{name}` has {len} values for {n} points"));
+                return Err(super::CloudError::FieldLength {
+                    field: name,
+                    len,
+                    points: n,
+                });
             }
         }
         if let Some((rows, cols)) = self.grid {
-            if rows * cols != n {
-                return Err(format!("grid {rows}x{cols} does not hold {n} points"));
+            if rows.checked_mul(cols) != Some(n) {
+                return Err(super::CloudError::GridSize {
+                    rows,
+                    cols,
+                    points: n,
+                });
             }
         }
         Ok(())

@@ -110,7 +110,7 @@ impl Columns {
             time,
             grid,
         };
-        cloud.check()?;
+        cloud.check().map_err(|e| e.to_string())?;
         Ok(cloud)
     }
 }

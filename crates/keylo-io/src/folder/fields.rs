@@ -117,6 +117,20 @@ pub struct FieldInfo {
 }
 
 /// Which field (by position in the file's field list) feeds each [`Slot`].
+/// Why a file's fields cannot be read as points.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum FieldError {
+    /// A field keylo reads holds several values per point.
+    #[error("field `{field}` holds {count} values per point; keylo reads it as one number")]
+    MultiValue { field: String, count: usize },
+    /// No x, y or z field.
+    #[error("no field `{}` (expected x, y, z; the file has: {})", missing.join("`, `"), if available.is_empty() { "none".to_string() } else { available.join(", ") })]
+    Missing {
+        missing: Vec<String>,
+        available: Vec<String>,
+    },
+}
+
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct FieldMap {
     source: [Option<usize>; SLOTS],
@@ -128,7 +142,7 @@ pub struct FieldMap {
 impl FieldMap {
     /// Maps `fields`; the error names what is missing (x, y, z) or unusable (a read field
     /// that is a list or has several values per point).
-    pub fn new(fields: &[FieldInfo]) -> Result<Self, String> {
+    pub fn new(fields: &[FieldInfo]) -> Result<Self, FieldError> {
         let mut source = [None; SLOTS];
         let mut integer = [false; SLOTS];
         for (_, slot) in FIELD_NAMES {
@@ -143,10 +157,10 @@ impl FieldMap {
             if let Some(pos) = found {
                 let f = &fields[pos];
                 if f.count != 1 {
-                    return Err(format!(
-                        "field `{}` holds {} values per point; keylo reads it as one number",
-                        f.name, f.count
-                    ));
+                    return Err(FieldError::MultiValue {
+                        field: f.name.clone(),
+                        count: f.count,
+                    });
                 }
                 source[s] = Some(pos);
                 integer[s] = f.integer;
@@ -159,16 +173,10 @@ impl FieldMap {
             .map(|(n, _)| n)
             .collect();
         if !missing.is_empty() {
-            let names: Vec<&str> = fields.iter().map(|f| f.name.as_str()).collect();
-            return Err(format!(
-                "no field `{}` (expected x, y, z; the file has: {})",
-                missing.join("`, `"),
-                if names.is_empty() {
-                    "none".to_string()
-                } else {
-                    names.join(", ")
-                }
-            ));
+            return Err(FieldError::Missing {
+                missing: missing.iter().map(|m| m.to_string()).collect(),
+                available: fields.iter().map(|f| f.name.clone()).collect(),
+            });
         }
         let ignored = (0..fields.len())
             .filter(|p| !source.contains(&Some(*p)))
@@ -221,7 +229,9 @@ mod tests {
 
     #[test]
     fn missing_coordinates_and_vector_fields_are_errors() {
-        let e = FieldMap::new(&info(&["x", "intensity"])).unwrap_err();
+        let e = FieldMap::new(&info(&["x", "intensity"]))
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("no field `y`, `z`") && e.contains("x, intensity"),
             "{e}"
@@ -230,6 +240,7 @@ mod tests {
         f[2].count = 3;
         assert!(FieldMap::new(&f)
             .unwrap_err()
+            .to_string()
             .contains("field `z` holds 3 values"));
     }
 }

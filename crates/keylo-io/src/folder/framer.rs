@@ -7,7 +7,7 @@ use keylo_core::{BeamGeometry, LidarFrame};
 
 use crate::cloud::projection_config::even_altitudes;
 use crate::cloud::{
-    organised, ProjectionConfig, Projector, RawCloud, Sensor, VerticalAngleCorrection,
+    organised, CloudError, ProjectionConfig, Projector, RawCloud, Sensor, VerticalAngleCorrection,
 };
 
 /// Turns the clouds of one sequence into frames.
@@ -21,7 +21,7 @@ pub struct Framer {
 impl Framer {
     /// A framer for `config` (validated) in a source whose `auto` sensor is
     /// `source_default`.
-    pub fn new(config: &ProjectionConfig, source_default: Sensor) -> Result<Self, String> {
+    pub fn new(config: &ProjectionConfig, source_default: Sensor) -> Result<Self, CloudError> {
         let grid = config.resolve(source_default)?;
         Ok(Self {
             projector: Projector::new(grid),
@@ -42,7 +42,7 @@ impl Framer {
 
     /// The frame of `cloud` (organised when `cloud.grid` is set); the error says which field
     /// is inconsistent.
-    pub fn frame(&mut self, cloud: &RawCloud, index: u64) -> Result<LidarFrame, String> {
+    pub fn frame(&mut self, cloud: &RawCloud, index: u64) -> Result<LidarFrame, CloudError> {
         match cloud.grid {
             Some((rows, cols)) => {
                 cloud.check()?;

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::select::FrameSelection;
+use crate::select::{FrameSelection, SelectionError};
 
 /// One file to read: its index among the folder's files, its path and its time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,9 +31,12 @@ impl FileSequence {
         files: Vec<PathBuf>,
         stamps: Vec<f64>,
         selection: &FrameSelection,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, SelectionError> {
         if stamps.len() != files.len() {
-            return Err(format!("{} stamps for {} files", stamps.len(), files.len()));
+            return Err(SelectionError::StampCount {
+                stamps: stamps.len(),
+                files: files.len(),
+            });
         }
         let selected = selection.indices(files.len())?;
         Ok(Self {
@@ -96,6 +99,7 @@ mod tests {
         let late = FrameSelection::new(9, 1, 0).unwrap();
         assert!(FileSequence::new(files, stamps, &late)
             .unwrap_err()
+            .to_string()
             .contains("source.start"));
     }
 }

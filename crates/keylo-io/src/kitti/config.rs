@@ -52,7 +52,7 @@ impl Default for KittiSourceConfig {
 
 impl KittiSourceConfig {
     /// The frame selection; the error names the key.
-    pub fn selection(&self) -> Result<FrameSelection, String> {
+    pub fn selection(&self) -> Result<FrameSelection, crate::select::SelectionError> {
         FrameSelection::new(self.start, self.stride, self.max_frames)
     }
 }

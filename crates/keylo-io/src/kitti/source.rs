@@ -42,7 +42,7 @@ impl KittiSource {
             ));
         }
         check_frame_rate(config.frame_rate_hz).map_err(key)?;
-        let selection = config.selection().map_err(key)?;
+        let selection = config.selection().map_err(|e| key(e.to_string()))?;
         let correction = config.vertical_angle_correction_deg;
         if !(correction.is_finite() && correction.abs() <= 10.0) {
             return Err(key(format!(
@@ -51,7 +51,7 @@ impl KittiSource {
             )));
         }
         let framer = Framer::new(&config.projection, Sensor::Hdl64e)
-            .map_err(key)?
+            .map_err(|e| key(e.to_string()))?
             .with_correction(VerticalAngleCorrection::new(correction));
         let layout = layout(&ctx.resolve_path(&config.path))?;
         let n = layout.scans.len();

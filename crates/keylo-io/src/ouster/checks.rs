@@ -7,7 +7,7 @@ use super::packet::RawFrame;
 /// Checks that the packets of `raw` fit `meta`'s columns per frame: no measurement id at or
 /// past the column count, and column timestamps spaced as `columns_per_frame` at `fps`
 /// implies (within 25 %; frames with fewer than 16 columns are not timed).
-pub fn check_frame(raw: &RawFrame, meta: &OusterMetadata) -> Result<(), String> {
+pub(crate) fn check_frame(raw: &RawFrame, meta: &OusterMetadata) -> Result<(), String> {
     let cols = meta.columns_per_frame;
     if raw.out_of_range_columns > 0 {
         return Err(format!(

@@ -32,7 +32,7 @@ const MAX_DATAGRAM: usize = 65_535;
 impl Reassembler {
     /// The UDP datagram this Ethernet frame completes, if any; `Ok(None)` for other traffic
     /// and for fragments still waiting for the rest. The error says what is malformed.
-    pub fn push(&mut self, frame: &[u8]) -> Result<Option<Udp>, String> {
+    pub(crate) fn push(&mut self, frame: &[u8]) -> Result<Option<Udp>, String> {
         self.seen += 1;
         let be16 = |b: &[u8], at: usize| u16::from_be_bytes([b[at], b[at + 1]]);
         if frame.len() < 14 || be16(frame, 12) != 0x0800 {

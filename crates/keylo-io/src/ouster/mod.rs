@@ -18,7 +18,7 @@ mod xyz;
 pub use batcher::{BatchedFrame, Batcher, Skipped};
 pub use destagger::{Destaggerer, Return};
 pub use metadata::{OusterMetadata, UdpProfile};
-pub use packet::{PacketFormat, RawFrame};
+pub use packet::{PacketFormat, RawFrame, UnsupportedProfile};
 pub use pcap::{Datagram, UdpReader};
 pub use source::{is_pcap, metadata_path, OusterSource, OusterSourceConfig, PartialFrames};
 pub use xyz::XyzLut;

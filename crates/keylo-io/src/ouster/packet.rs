@@ -97,20 +97,28 @@ pub struct PacketFormat {
     footer: usize,
 }
 
+/// An Ouster UDP lidar profile keylo does not decode yet.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "UDP lidar profile {profile} is not supported yet (supported: LEGACY, \
+     RNG19_RFL8_SIG16_NIR16, RNG19_RFL8_SIG16_NIR16_DUAL, RNG15_RFL8_NIR8)"
+)]
+pub struct UnsupportedProfile {
+    pub profile: String,
+}
+
 impl PacketFormat {
     /// The layout for `meta`'s profile; an error names an unsupported profile.
-    pub fn new(meta: &OusterMetadata) -> Result<Self, String> {
+    pub fn new(meta: &OusterMetadata) -> Result<Self, UnsupportedProfile> {
         let (header, column_header, pixel, column_footer, footer) = match meta.udp_profile_lidar {
             UdpProfile::Legacy => (0, 16, 12, 4, 0),
             UdpProfile::Rng19Rfl8Sig16Nir16 => (32, 12, 12, 0, 32),
             UdpProfile::Rng19Rfl8Sig16Nir16Dual => (32, 12, 16, 0, 32),
             UdpProfile::Rng15Rfl8Nir8 => (32, 12, 4, 0, 32),
             ref other => {
-                return Err(format!(
-                    "UDP lidar profile {} is not supported yet (supported: LEGACY, \
-                     RNG19_RFL8_SIG16_NIR16, RNG19_RFL8_SIG16_NIR16_DUAL, RNG15_RFL8_NIR8)",
-                    other.name()
-                ))
+                return Err(UnsupportedProfile {
+                    profile: other.name().to_string(),
+                })
             }
         };
         Ok(Self {

@@ -38,7 +38,7 @@ pub fn read_pcd(path: &Path, stamp: f64, options: &FieldOptions) -> Result<RawCl
     check_body(&meta, body).map_err(err)?;
     let grid = grid(&meta).map_err(err)?;
     let fields = fields(&meta);
-    let map = FieldMap::new(&fields).map_err(err)?;
+    let map = FieldMap::new(&fields).map_err(|e| err(e.to_string()))?;
     let n = usize::try_from(meta.num_points).unwrap_or(usize::MAX);
     let mut columns = Columns::new(&map, n.min(1 << 20));
     if meta.data == DataKind::Binary {

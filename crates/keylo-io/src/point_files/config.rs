@@ -58,7 +58,7 @@ impl Default for PointFilesConfig {
 
 impl PointFilesConfig {
     /// The frame selection; the error names the key.
-    pub fn selection(&self) -> Result<FrameSelection, String> {
+    pub fn selection(&self) -> Result<FrameSelection, crate::select::SelectionError> {
         FrameSelection::new(self.start, self.stride, self.max_frames)
     }
 

@@ -86,8 +86,9 @@ impl PointFilesSource {
             )));
         }
         check_frame_rate(config.frame_rate_hz).map_err(key)?;
-        let selection = config.selection().map_err(key)?;
-        let framer = Framer::new(&config.projection, Sensor::Generic).map_err(key)?;
+        let selection = config.selection().map_err(|e| key(e.to_string()))?;
+        let framer =
+            Framer::new(&config.projection, Sensor::Generic).map_err(|e| key(e.to_string()))?;
         let path = ctx.resolve_path(&config.path);
         let mut files = point_files(&path, ext)?;
         let (stamps, named) = frame_stamps(&mut files, config.frame_rate_hz);

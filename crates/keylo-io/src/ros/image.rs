@@ -5,7 +5,7 @@ use super::msgs::Image;
 
 /// Pixel values of `mono8`/`8UC1` (u8), `mono16`/`16UC1` (u16, byte order from
 /// `is_bigendian`) and `32FC1` (f32) images, row-major, `step` padding skipped.
-pub fn pixels(img: &Image) -> Result<Vec<f32>, String> {
+pub(crate) fn pixels(img: &Image) -> Result<Vec<f32>, String> {
     let (h, w, step) = (img.height as usize, img.width as usize, img.step as usize);
     let size = match img.encoding {
         "mono8" | "8UC1" => 1,

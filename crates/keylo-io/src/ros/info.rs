@@ -121,7 +121,7 @@ fn topic_info(file: &mut dyn MessageFile, t: &Topic) -> TopicInfo {
     match file.next_message() {
         Some(Ok(m)) => match PointCloud2::decode(&m.data, encoding) {
             Ok(pc) => info.cloud = Some(layout(&pc)),
-            Err(e) => info.cloud_error = Some(e),
+            Err(e) => info.cloud_error = Some(e.to_string()),
         },
         Some(Err(e)) => info.cloud_error = Some(e.to_string()),
         None => {}

@@ -53,7 +53,7 @@ impl<R: Read> FileRecords<R> {
     }
 
     /// Exactly `buf.len()` bytes, which the section must have.
-    pub fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), String> {
+    pub(crate) fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), String> {
         if (buf.len() as u64) > self.left() {
             return Err(format!(
                 "the {} ends at byte {}, {} bytes short of what is read at byte {}",

@@ -61,7 +61,7 @@ impl Linear {
     }
 
     /// The next message; the error says after which message and near which byte.
-    pub fn next(&mut self) -> Option<Result<Message<'static>, String>> {
+    pub(crate) fn next(&mut self) -> Option<Result<Message<'static>, String>> {
         match self.advance() {
             Ok(Some(m)) => {
                 self.index += 1;

@@ -31,7 +31,7 @@ use std::path::Path;
 pub use config::{BagSourceConfig, ImageTopics};
 pub use file::BagFormat;
 pub use info::{bag_info, BagInfo, CloudLayout, FieldInfo, TopicInfo};
-pub use msgs::{decode_header, Header, Image, PointCloud2, PointField};
+pub use msgs::{decode_header, DecodeError, Header, Image, PointCloud2, PointField};
 pub use pointcloud2::to_raw_cloud;
 pub use source::BagSource;
 pub use wire::Encoding;

@@ -3,6 +3,27 @@
 
 use super::wire::{Encoding, WireReader};
 
+/// A ROS message that cannot be decoded; the message names the field and what is wrong
+/// (`point_step is 0`, `` `data` at byte 40: 12 bytes left, 96 declared``).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{message}")]
+pub struct DecodeError {
+    message: String,
+}
+
+impl DecodeError {
+    /// What is wrong.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+}
+
+impl From<String> for DecodeError {
+    fn from(message: String) -> Self {
+        Self { message }
+    }
+}
+
 /// `std_msgs/Header` (ROS1's `seq` is read and dropped).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Header<'a> {
@@ -74,7 +95,7 @@ pub struct PointCloud2<'a> {
 
 impl<'a> PointCloud2<'a> {
     /// Decodes a serialised message.
-    pub fn decode(buf: &'a [u8], encoding: Encoding) -> Result<Self, String> {
+    pub fn decode(buf: &'a [u8], encoding: Encoding) -> Result<Self, DecodeError> {
         let mut r = WireReader::new(buf, encoding)?;
         let header = Header::read(&mut r, encoding)?;
         let height = r.u32("height")?;
@@ -125,7 +146,7 @@ pub struct Image<'a> {
 
 impl<'a> Image<'a> {
     /// Decodes a serialised message.
-    pub fn decode(buf: &'a [u8], encoding: Encoding) -> Result<Self, String> {
+    pub fn decode(buf: &'a [u8], encoding: Encoding) -> Result<Self, DecodeError> {
         let mut r = WireReader::new(buf, encoding)?;
         Ok(Self {
             header: Header::read(&mut r, encoding)?,
@@ -141,13 +162,13 @@ impl<'a> Image<'a> {
 
 /// The header of a message that starts with one (PointCloud2, Image), without decoding the
 /// rest: images are matched to clouds by stamp before either is decoded.
-pub fn decode_header(buf: &[u8], encoding: Encoding) -> Result<Header<'_>, String> {
+pub fn decode_header(buf: &[u8], encoding: Encoding) -> Result<Header<'_>, DecodeError> {
     let mut r = WireReader::new(buf, encoding)?;
-    Header::read(&mut r, encoding)
+    Ok(Header::read(&mut r, encoding)?)
 }
 
 /// The text of a `std_msgs/String`.
-pub fn decode_string(buf: &[u8], encoding: Encoding) -> Result<&str, String> {
+pub(crate) fn decode_string(buf: &[u8], encoding: Encoding) -> Result<&str, String> {
     WireReader::new(buf, encoding)?.string("data")
 }
 
@@ -244,7 +265,7 @@ pub(crate) mod tests {
             assert!(m.is_dense);
             assert!((m.header.stamp_s() - 5.000000001).abs() < 1e-12);
             let e = PointCloud2::decode(&buf[..buf.len() - 10], enc).unwrap_err();
-            assert!(e.contains("`data`"), "{e}");
+            assert!(e.message().contains("`data`"), "{e}");
         }
     }
 

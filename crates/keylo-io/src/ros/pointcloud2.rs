@@ -178,7 +178,7 @@ fn check_sizes(msg: &PointCloud2) -> Result<usize, String> {
 }
 
 /// The cloud of a message; the error names the field or size that is inconsistent.
-pub fn to_raw_cloud(msg: &PointCloud2) -> Result<RawCloud, String> {
+pub fn to_raw_cloud(msg: &PointCloud2) -> Result<RawCloud, super::DecodeError> {
     let n = check_sizes(msg)?;
     let layout = Layout {
         msg,

@@ -2,7 +2,7 @@ use super::*;
 use crate::ros::msgs::tests::cloud_msg;
 use crate::ros::wire::Encoding;
 
-fn decode_with(buf: &[u8], enc: Encoding) -> Result<RawCloud, String> {
+fn decode_with(buf: &[u8], enc: Encoding) -> Result<RawCloud, crate::ros::DecodeError> {
     to_raw_cloud(&PointCloud2::decode(buf, enc)?)
 }
 
@@ -156,25 +156,26 @@ fn row_padding_is_skipped() {
 fn inconsistent_messages_are_errors() {
     let xyz = [("x", 0, 7), ("y", 4, 7), ("z", 8, 7)];
     let short = cloud_msg(Encoding::Ros1, 0, (2, 3, 12), &xyz, false, &[0u8; 60]);
-    let e = decode_with(&short, Encoding::Ros1).unwrap_err();
+    let e = decode_with(&short, Encoding::Ros1).unwrap_err().to_string();
     assert!(
         e.contains("data holds 60 bytes") && e.contains("72") && e.contains("point_step 12"),
         "{e}"
     );
 
     let no_z = cloud_msg(Encoding::Ros1, 0, (1, 1, 12), &xyz[..2], false, &[0u8; 12]);
-    let e = decode_with(&no_z, Encoding::Ros1).unwrap_err();
+    let e = decode_with(&no_z, Encoding::Ros1).unwrap_err().to_string();
     assert!(e.contains("no `z` field") && e.contains("x, y"), "{e}");
 
     let outside = [("x", 0, 7), ("y", 4, 7), ("z", 10, 7)];
     let buf = cloud_msg(Encoding::Ros1, 0, (1, 1, 12), &outside, false, &[0u8; 12]);
-    let e = decode_with(&buf, Encoding::Ros1).unwrap_err();
+    let e = decode_with(&buf, Encoding::Ros1).unwrap_err().to_string();
     assert!(e.contains("outside point_step 12"), "{e}");
 
     let bad_type = [("x", 0, 9), ("y", 4, 7), ("z", 8, 7)];
     let buf = cloud_msg(Encoding::Ros1, 0, (1, 1, 12), &bad_type, false, &[0u8; 12]);
     assert!(decode_with(&buf, Encoding::Ros1)
         .unwrap_err()
+        .message()
         .contains("datatype 9"));
 
     let ring = [("x", 0, 7), ("y", 4, 7), ("z", 8, 7), ("ring", 12, 5)];
@@ -183,5 +184,6 @@ fn inconsistent_messages_are_errors() {
     let buf = cloud_msg(Encoding::Ros1, 0, (1, 1, 16), &ring, false, &data);
     assert!(decode_with(&buf, Encoding::Ros1)
         .unwrap_err()
+        .message()
         .contains("beam index"));
 }

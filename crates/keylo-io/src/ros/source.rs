@@ -74,13 +74,13 @@ impl BagSource {
             channels.push(channel);
         }
         let metadata = read_metadata(file.as_mut(), &all, &config.metadata_topic)?;
-        let selection =
-            FrameSelection::new(config.start, config.stride, config.max_frames).map_err(err)?;
+        let selection = FrameSelection::new(config.start, config.stride, config.max_frames)
+            .map_err(|e| err(e.to_string()))?;
         let frames = match cloud.count {
             Some(n) => Some(
                 selection
                     .count(usize::try_from(n).unwrap_or(usize::MAX))
-                    .map_err(err)?,
+                    .map_err(|e| err(e.to_string()))?,
             ),
             None => None,
         };
@@ -149,8 +149,8 @@ impl BagSource {
             self.topic, msg.log_time
         );
         let fail = |m: String| IoError::format(&path, format!("{at}: {m}"));
-        let pc = PointCloud2::decode(&msg.data, self.encoding).map_err(fail)?;
-        let cloud = to_raw_cloud(&pc).map_err(fail)?;
+        let pc = PointCloud2::decode(&msg.data, self.encoding).map_err(|e| fail(e.to_string()))?;
+        let cloud = to_raw_cloud(&pc).map_err(|e| fail(e.to_string()))?;
         let Some((rows, cols)) = cloud.grid else {
             if !self.channels.is_empty() {
                 return Err(fail(
@@ -159,7 +159,10 @@ impl BagSource {
                         .into(),
                 ));
             }
-            return self.projector.project(&cloud, i as u64).map_err(fail);
+            return self
+                .projector
+                .project(&cloud, i as u64)
+                .map_err(|e| fail(e.to_string()));
         };
         let beams = self.beams_for(&cloud, rows, cols);
         let mut frame = organised::to_frame(&cloud, rows, cols, i as u64, beams);
@@ -249,6 +252,7 @@ impl BagSource {
         let (rows, cols) = (frame.rows, frame.cols);
         for ((msg, q), channel) in images.iter().zip(&self.sync.images).zip(&self.channels) {
             let img = Image::decode(&msg.data, q.encoding)
+                .map_err(|e| e.to_string())
                 .and_then(|img| {
                     if (img.height as usize, img.width as usize) != (rows, cols) {
                         return Err(format!(

@@ -49,7 +49,7 @@ pub(crate) struct WireReader<'a> {
 
 impl<'a> WireReader<'a> {
     /// A reader of `buf`; for CDR the encapsulation header is read and checked.
-    pub fn new(buf: &'a [u8], encoding: Encoding) -> Result<Self, String> {
+    pub(crate) fn new(buf: &'a [u8], encoding: Encoding) -> Result<Self, String> {
         let mut r = Self {
             buf,
             pos: 0,
@@ -115,12 +115,12 @@ impl<'a> WireReader<'a> {
     }
 
     /// A `uint8` (also `bool` and `char`).
-    pub fn u8(&mut self, what: &str) -> Result<u8, String> {
+    pub(crate) fn u8(&mut self, what: &str) -> Result<u8, String> {
         Ok(self.array::<1>(what)?[0])
     }
 
     /// A `uint32`.
-    pub fn u32(&mut self, what: &str) -> Result<u32, String> {
+    pub(crate) fn u32(&mut self, what: &str) -> Result<u32, String> {
         let b = self.array::<4>(what)?;
         Ok(if self.big_endian {
             u32::from_be_bytes(b)
@@ -130,13 +130,13 @@ impl<'a> WireReader<'a> {
     }
 
     /// An `int32`.
-    pub fn i32(&mut self, what: &str) -> Result<i32, String> {
+    pub(crate) fn i32(&mut self, what: &str) -> Result<i32, String> {
         Ok(self.u32(what)? as i32)
     }
 
     /// A sequence or string length, checked against the bytes left (each element at least
     /// `min_elem` bytes) so a corrupt length never allocates.
-    pub fn seq_len(&mut self, what: &str, min_elem: usize) -> Result<usize, String> {
+    pub(crate) fn seq_len(&mut self, what: &str, min_elem: usize) -> Result<usize, String> {
         let at = self.pos;
         let n = self.u32(what)? as usize;
         let left = self.buf.len().saturating_sub(self.pos);
@@ -149,7 +149,7 @@ impl<'a> WireReader<'a> {
     }
 
     /// A `string` (UTF-8; CDR's terminating NUL is dropped).
-    pub fn string(&mut self, what: &str) -> Result<&'a str, String> {
+    pub(crate) fn string(&mut self, what: &str) -> Result<&'a str, String> {
         let n = self.seq_len(what, 1)?;
         let at = self.pos;
         let mut bytes = self.take(n, what)?;
@@ -160,7 +160,7 @@ impl<'a> WireReader<'a> {
     }
 
     /// A `uint8[]`, borrowed.
-    pub fn bytes(&mut self, what: &str) -> Result<&'a [u8], String> {
+    pub(crate) fn bytes(&mut self, what: &str) -> Result<&'a [u8], String> {
         let n = self.seq_len(what, 1)?;
         self.take(n, what)
     }

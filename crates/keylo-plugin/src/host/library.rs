@@ -214,14 +214,15 @@ impl Plugin {
         // SAFETY: a supported version, and `KeyloPluginInfo` is the same in all of them.
         let info = unsafe { &*info };
         // SAFETY: the strings are NULL or NUL-terminated per the ABI.
-        let name = unsafe { c_str(info.name, "name") }.map_err(invalid)?;
+        let name = unsafe { c_str(info.name, "name") }.map_err(|e| invalid(e.to_string()))?;
         if name.is_empty() || name.contains(|c: char| c.is_whitespace() || c == ':') {
             return Err(invalid(format!(
                 "name `{name}` must be non-empty, without spaces or `:`"
             )));
         }
         // SAFETY: as above.
-        let version = unsafe { c_str(info.version, "version") }.map_err(invalid)?;
+        let version =
+            unsafe { c_str(info.version, "version") }.map_err(|e| invalid(e.to_string()))?;
         if info.kind_count > 0 && info.kinds.is_null() {
             return Err(invalid(format!(
                 "kinds is NULL with kind_count {}",

@@ -1,5 +1,6 @@
 //! Borrowed ABI views of a frame and its features for a downsampler plugin.
 
+use crate::convert::AbiError;
 use std::ffi::CString;
 use std::marker::PhantomData;
 
@@ -18,8 +19,8 @@ pub struct FrameView<'a> {
 
 impl<'a> FrameView<'a> {
     /// A view of `frame`, its shape (and its scan's) checked.
-    pub fn new(frame: &'a LidarFrame) -> Result<Self, String> {
-        frame.check_shape()?;
+    pub fn new(frame: &'a LidarFrame) -> Result<Self, AbiError> {
+        frame.check_shape().map_err(|e| e.to_string())?;
         let scan = frame.scan.as_deref().map(|s| Box::new(scan_view(s)));
         let scan_ptr = scan
             .as_deref()
@@ -81,7 +82,7 @@ pub struct FeaturesView {
 
 impl FeaturesView {
     /// A view of `features`, borrowing its images, keypoints and descriptors.
-    pub fn new(features: &FrameFeatures) -> Result<Self, String> {
+    pub fn new(features: &FrameFeatures) -> Result<Self, AbiError> {
         let names: Vec<CString> = features
             .per_image
             .iter()
@@ -182,7 +183,7 @@ mod tests {
         scan.pixel_to_point.pop();
         frame.scan = Some(Arc::new(scan.clone()));
         let e = FrameView::new(&frame).err().unwrap();
-        assert!(e.contains("pixel_to_point"), "{e}");
+        assert!(e.message().contains("pixel_to_point"), "{e}");
 
         // A plugin-side copy checks what it reads: here a pixel beyond the grid.
         scan.pixel_to_point.push(3);
@@ -190,11 +191,11 @@ mod tests {
         let mut abi = scan_view(&scan);
         // SAFETY: `abi` borrows `scan`, which outlives the call.
         let e = unsafe { scan_from_abi(&abi, 6) }.unwrap_err();
-        assert!(e.contains("scan.pixel"), "{e}");
+        assert!(e.message().contains("scan.pixel"), "{e}");
         abi.source_index = std::ptr::null();
         // SAFETY: as above; the NULL array is what is tested.
         let e = unsafe { scan_from_abi(&abi, 6) }.unwrap_err();
-        assert!(e.contains("source_index: NULL"), "{e}");
+        assert!(e.message().contains("source_index: NULL"), "{e}");
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The ABI's input buffers copied into keylo's types, checked, for a Rust plugin's trait
 //! implementation.
 
+use crate::convert::AbiError;
 use std::sync::Arc;
 
 use keylo_core::{
@@ -16,12 +17,13 @@ use crate::convert::{c_str, copy_optional, copy_slice, descriptors_from_abi, key
 /// # Safety
 /// `image.data` must point to `height * stride` bytes and `image.name` be NULL or a
 /// NUL-terminated string.
-pub unsafe fn image_from_abi(image: &KeyloImage) -> Result<Image, String> {
+pub unsafe fn image_from_abi(image: &KeyloImage) -> Result<Image, AbiError> {
     if image.pixel_type != KEYLO_PIXEL_U8 {
         return Err(format!(
             "image pixel_type {}, this plugin reads only {KEYLO_PIXEL_U8} (u8)",
             image.pixel_type
-        ));
+        )
+        .into());
     }
     let (w, h, stride, ch) = (
         image.width as usize,
@@ -30,7 +32,7 @@ pub unsafe fn image_from_abi(image: &KeyloImage) -> Result<Image, String> {
         image.channels as usize,
     );
     if stride < w * ch {
-        return Err(format!("image stride {stride} < width {w} x channels {ch}"));
+        return Err(format!("image stride {stride} < width {w} x channels {ch}").into());
     }
     // SAFETY: forwarded from the caller.
     let data = unsafe { copy_slice(image.data, h * stride, "image data") }?;
@@ -60,7 +62,7 @@ pub unsafe fn image_from_abi(image: &KeyloImage) -> Result<Image, String> {
 /// this SDK). Every grid pointer of `f` must hold `rows * cols` values (`points` three times
 /// that, `column_times` `cols`); `pixel_times` may be NULL; `scan` must be NULL or as
 /// [`scan_from_abi`] requires.
-pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, String> {
+pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, AbiError> {
     let (rows, cols) = (f.rows as usize, f.cols as usize);
     let n = rows
         .checked_mul(cols)
@@ -105,7 +107,7 @@ pub unsafe fn frame_from_abi(f: &KeyloFrame) -> Result<LidarFrame, String> {
 pub unsafe fn scan_from_abi(
     scan: *const KeyloScanPoints,
     pixels: usize,
-) -> Result<Option<ScanPoints>, String> {
+) -> Result<Option<ScanPoints>, AbiError> {
     if scan.is_null() {
         return Ok(None);
     }
@@ -113,7 +115,7 @@ pub unsafe fn scan_from_abi(
     let s = unsafe { &*scan };
     let n = s.len;
     if n.checked_mul(3 * std::mem::size_of::<f64>()).is_none() {
-        return Err(format!("scan: {n} points overflow"));
+        return Err(format!("scan: {n} points overflow").into());
     }
     // SAFETY: `Point3<f64>` is `#[repr(C)]` over `[f64; 3]` and `xyz` holds `3 * len`
     // doubles (caller's contract): `len` points.
@@ -133,7 +135,7 @@ pub unsafe fn scan_from_abi(
         // SAFETY: the caller guarantees `pixels` values.
         pixel_to_point: unsafe { copy_slice(s.pixel_to_point, pixels, "scan pixel_to_point") }?,
     };
-    scan.check(pixels)?;
+    scan.check(pixels).map_err(|e| e.to_string())?;
     Ok(Some(scan))
 }
 
@@ -141,13 +143,13 @@ pub unsafe fn scan_from_abi(
 ///
 /// # Safety
 /// `f.images` must point to `f.len` entries whose buffers hold what their lengths say.
-pub unsafe fn features_from_abi(f: &KeyloFeatures) -> Result<FrameFeatures, String> {
+pub unsafe fn features_from_abi(f: &KeyloFeatures) -> Result<FrameFeatures, AbiError> {
     let mut out = FrameFeatures::default();
     if f.len == 0 {
         return Ok(out);
     }
     if f.images.is_null() {
-        return Err(format!("features: NULL pointer for {} images", f.len));
+        return Err(format!("features: NULL pointer for {} images", f.len).into());
     }
     // SAFETY: non-null, and the caller guarantees `len` entries.
     let entries = unsafe { std::slice::from_raw_parts(f.images, f.len) };

@@ -23,7 +23,7 @@ pub(crate) struct Fields<'a>(Vec<(&'a [u8], &'a [u8])>);
 
 impl<'a> Fields<'a> {
     /// Parses `len u32, name=value` fields.
-    pub fn parse(mut buf: &'a [u8]) -> Result<Self, String> {
+    pub(crate) fn parse(mut buf: &'a [u8]) -> Result<Self, String> {
         let mut out = Vec::new();
         while !buf.is_empty() {
             let len = le_u32(buf).ok_or("header field length cut short")? as usize;
@@ -49,7 +49,7 @@ impl<'a> Fields<'a> {
     }
 
     /// The record type.
-    pub fn op(&self) -> Result<u8, String> {
+    pub(crate) fn op(&self) -> Result<u8, String> {
         match self.get("op")? {
             [op] => Ok(*op),
             v => Err(format!("field `op` has {} bytes, expected 1", v.len())),
@@ -57,7 +57,7 @@ impl<'a> Fields<'a> {
     }
 
     /// A `u32` field.
-    pub fn u32(&self, name: &str) -> Result<u32, String> {
+    pub(crate) fn u32(&self, name: &str) -> Result<u32, String> {
         let v = self.get(name)?;
         <[u8; 4]>::try_from(v)
             .map(u32::from_le_bytes)
@@ -65,7 +65,7 @@ impl<'a> Fields<'a> {
     }
 
     /// A `u64` field.
-    pub fn u64(&self, name: &str) -> Result<u64, String> {
+    pub(crate) fn u64(&self, name: &str) -> Result<u64, String> {
         let v = self.get(name)?;
         <[u8; 8]>::try_from(v)
             .map(u64::from_le_bytes)
@@ -73,13 +73,13 @@ impl<'a> Fields<'a> {
     }
 
     /// A ROS time field (`sec u32, nsec u32`), nanoseconds.
-    pub fn time(&self, name: &str) -> Result<u64, String> {
+    pub(crate) fn time(&self, name: &str) -> Result<u64, String> {
         let ns = self.u64(name)?;
         Ok((ns & 0xffff_ffff) * 1_000_000_000 + (ns >> 32))
     }
 
     /// A text field.
-    pub fn str(&self, name: &str) -> Result<&'a str, String> {
+    pub(crate) fn str(&self, name: &str) -> Result<&'a str, String> {
         std::str::from_utf8(self.get(name)?).map_err(|_| format!("field `{name}` is not UTF-8"))
     }
 }
@@ -100,7 +100,7 @@ pub(crate) struct Record {
 impl Record {
     /// Reads the record at the reader's position; `None` at the end of the input. `max_len`
     /// (the bytes left in the file) bounds both lengths, so a corrupt length never allocates.
-    pub fn read(r: &mut impl Read, max_len: u64) -> Result<Option<Self>, String> {
+    pub(crate) fn read(r: &mut impl Read, max_len: u64) -> Result<Option<Self>, String> {
         let mut len = [0u8; 4];
         match read_full(r, &mut len)? {
             0 => return Ok(None),
@@ -126,7 +126,7 @@ impl Record {
     }
 
     /// The header fields.
-    pub fn fields(&self) -> Result<Fields<'_>, String> {
+    pub(crate) fn fields(&self) -> Result<Fields<'_>, String> {
         Fields::parse(&self.header)
     }
 }
