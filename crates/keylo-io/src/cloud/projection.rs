@@ -434,7 +434,7 @@ mod tests {
         };
         assert_eq!(
             p.project(&bad, 1).unwrap_err(),
-            CloudError::RingOutOfRange { ring: 7, rows: 4 }
+            CloudError::RingOutOfRange { ring: 7, rows: 2 }
         );
     }
 
