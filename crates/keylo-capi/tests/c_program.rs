@@ -2,24 +2,16 @@
 //! pipeline on five simulated frames, pushed as organised frames and as point clouds with
 //! per-point times, and its poses follow the simulator's ground truth.
 
+mod common;
+
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
-use keylo::config::RawConfig;
+use common::{here, lib_dir};
 use keylo::{LidarFrame, Trajectory};
 
 const FRAMES: usize = 5;
-
-fn here() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
-}
-
-/// Where cargo put `libkeylo_capi.so` (beside this test binary).
-fn lib_dir() -> PathBuf {
-    let exe = std::env::current_exe().expect("test binary path");
-    exe.parent().expect("deps folder").to_path_buf()
-}
 
 fn write_frame(path: &Path, f: &LidarFrame) {
     let mut out = Vec::new();
@@ -42,52 +34,9 @@ fn write_frame(path: &Path, f: &LidarFrame) {
 
 /// Five simulated OS1-64 frames (512 columns) written for the C program; their ground truth.
 fn simulate(dir: &Path) -> Trajectory {
-    let mut raw = RawConfig::builtin();
-    for s in [
-        "source.kind=sim",
-        "source.scene=lab",
-        "source.sensor=os1-64",
-        "source.columns=512",
-        &format!("source.frames={FRAMES}"),
-    ] {
-        raw.set(s).unwrap();
-    }
-    let registry = keylo::registry();
-    let config = registry.resolve(&raw).unwrap();
-    let mut source = keylo::build_source(&config, &registry).unwrap();
-    let mut k = 0;
-    while let Some(frame) = source.next_frame() {
-        write_frame(&dir.join(format!("frame_{k}.bin")), &frame.unwrap());
-        k += 1;
-    }
-    assert_eq!(k, FRAMES);
-    source.ground_truth().expect("simulator ground truth")
-}
-
-fn compile(exe: &Path) {
-    let target = env!("KEYLO_TEST_TARGET");
-    let compiler = cc::Build::new()
-        .cargo_metadata(false)
-        .opt_level(1)
-        .debug(false)
-        .target(target)
-        .host(target)
-        .try_get_compiler()
-        .expect("a C compiler");
-    let o = compiler
-        .to_command()
-        .args(["-std=c99", "-Wall", "-Werror", "-I"])
-        .arg(here().join("include"))
-        .arg(here().join("tests/embed.c"))
-        .arg("-o")
-        .arg(exe)
-        .arg("-L")
-        .arg(lib_dir())
-        .arg(format!("-Wl,-rpath,{}", lib_dir().display()))
-        .args(["-lkeylo_capi", "-lm"])
-        .output()
-        .expect("the C compiler runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::simulate_lab(FRAMES, &[], |k, frame| {
+        write_frame(&dir.join(format!("frame_{k}.bin")), &frame)
+    })
 }
 
 /// Runs the program; the translation of every frame.
@@ -166,7 +115,7 @@ fn c_program_runs_a_pipeline_on_frames_and_on_points() {
     let dir = tempfile::tempdir().unwrap();
     let gt = simulate(dir.path());
     let exe = dir.path().join("embed");
-    compile(&exe);
+    common::compile(&here().join("tests/embed.c"), &exe);
     let frames = run(
         &exe,
         "[registrar]\nkind = \"kiss-icp\"\n",

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{error, pipeline, push, room};
+use common::{error, pipeline, push, room, stats_out};
 use keylo_capi::ffi::*;
 
 const KISS: &std::ffi::CStr = c"[registrar]\nkind = \"kiss-icp\"\nmax_range = 30.0\n";
@@ -134,10 +134,7 @@ fn nan_points_are_dropped_and_bad_arrays_refused() {
         keylo_pipeline_push_points(p, 0.0, xyz.as_ptr(), std::ptr::null(), std::ptr::null(), n)
     };
     assert_eq!(rc, KEYLO_CAPI_OK, "{}", error(p));
-    let mut stats = KeyloFrameStats {
-        size: std::mem::size_of::<KeyloFrameStats>() as u32,
-        ..KeyloFrameStats::default()
-    };
+    let mut stats = stats_out();
     // SAFETY: writable and sized.
     assert_eq!(
         unsafe { keylo_pipeline_stats(p, &mut stats) },
@@ -178,10 +175,7 @@ fn local_map_and_covariance_come_out() {
         unsafe { keylo_pipeline_local_map(p, &mut xyz, &mut n) },
         KEYLO_CAPI_OK
     );
-    let mut stats = KeyloFrameStats {
-        size: std::mem::size_of::<KeyloFrameStats>() as u32,
-        ..KeyloFrameStats::default()
-    };
+    let mut stats = stats_out();
     // SAFETY: writable and sized.
     assert_eq!(
         unsafe { keylo_pipeline_stats(p, &mut stats) },

@@ -3,46 +3,22 @@
 //! folder (simulated scans written as `.bin`), with and without a motion prior, and its poses
 //! follow the simulator's ground truth.
 
+mod common;
+
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
-use keylo::config::RawConfig;
-use keylo::{Pose, Trajectory};
+use common::{here, lib_dir};
+use keylo::Pose;
 
 const FRAMES: usize = 12;
-
-fn here() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
-}
-
-/// Where cargo put `libkeylo_capi.so` (beside this test binary).
-fn lib_dir() -> PathBuf {
-    let exe = std::env::current_exe().expect("test binary path");
-    exe.parent().expect("deps folder").to_path_buf()
-}
 
 /// Simulated lab scans written as KITTI `.bin` files (every valid point, x y z signal) into
 /// `dir/scans`; the ground truth relative to the first frame.
 fn kitti_folder(dir: &Path) -> Vec<Pose> {
-    let mut raw = RawConfig::builtin();
-    for s in [
-        "source.kind=sim",
-        "source.scene=lab",
-        "source.sensor=os1-64",
-        "source.columns=512",
-        "source.start_ramp_s=0",
-        &format!("source.frames={FRAMES}"),
-    ] {
-        raw.set(s).unwrap();
-    }
-    let registry = keylo::registry();
-    let config = registry.resolve(&raw).unwrap();
-    let mut source = keylo::build_source(&config, &registry).unwrap();
     std::fs::create_dir_all(dir.join("scans")).unwrap();
-    let mut k = 0;
-    while let Some(frame) = source.next_frame() {
-        let frame = frame.unwrap();
+    let truth = common::simulate_lab(FRAMES, &["source.start_ramp_s=0"], |k, frame| {
         let mut bytes = Vec::new();
         for (i, p) in frame.points.iter().enumerate() {
             if frame.valid[i] {
@@ -52,10 +28,7 @@ fn kitti_folder(dir: &Path) -> Vec<Pose> {
             }
         }
         std::fs::write(dir.join(format!("scans/{k:06}.bin")), bytes).unwrap();
-        k += 1;
-    }
-    assert_eq!(k, FRAMES);
-    let truth: Trajectory = source.ground_truth().unwrap();
+    });
     truth
         .poses
         .iter()
@@ -74,33 +47,6 @@ fn kitti_lines(poses: &[Pose]) -> String {
         writeln!(out, "{}", v.join(" ")).unwrap();
     }
     out
-}
-
-fn compile(exe: &Path) {
-    let target = env!("KEYLO_TEST_TARGET");
-    let compiler = cc::Build::new()
-        .cpp(true)
-        .cargo_metadata(false)
-        .opt_level(1)
-        .debug(false)
-        .target(target)
-        .host(target)
-        .try_get_compiler()
-        .expect("a C++ compiler");
-    let o = compiler
-        .to_command()
-        .args(["-std=c++17", "-Wall", "-Wextra", "-Werror", "-I"])
-        .arg(here().join("include"))
-        .arg(here().join("examples/slam_loop.cpp"))
-        .arg("-o")
-        .arg(exe)
-        .arg("-L")
-        .arg(lib_dir())
-        .arg(format!("-Wl,-rpath,{}", lib_dir().display()))
-        .args(["-lkeylo_capi", "-lm"])
-        .output()
-        .expect("the C++ compiler runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 /// Runs the program; the translation of every pose and the whole output.
@@ -149,7 +95,7 @@ fn cpp_slam_loop_runs_on_a_kitti_folder_with_and_without_a_prior() {
     let prior = dir.path().join("prior.txt");
     std::fs::write(&prior, kitti_lines(&truth)).unwrap();
     let exe = dir.path().join("slam_loop");
-    compile(&exe);
+    common::compile(&here().join("examples/slam_loop.cpp"), &exe);
     let travelled = truth[FRAMES - 1].translation.vector.norm();
     assert!(
         travelled > 0.3,

@@ -67,10 +67,7 @@ fn hooks_work_and_refuse_what_is_not_rigid() {
     assert_eq!(unsafe { keylo_pipeline_pose(p, &mut pose) }, KEYLO_CAPI_OK);
     assert!(pose.translation[0] > 99.0, "{:?}", pose.translation);
     // Per-frame statistics, in a struct that starts with its size.
-    let mut stats = KeyloFrameStats {
-        size: std::mem::size_of::<KeyloFrameStats>() as u32,
-        ..KeyloFrameStats::default()
-    };
+    let mut stats = common::stats_out();
     // SAFETY: `stats` is writable and its size is set.
     assert_eq!(
         unsafe { keylo_pipeline_stats(p, &mut stats) },
@@ -156,10 +153,7 @@ fn two_threads_on_one_pipeline_get_busy_not_a_race() {
     });
     let (mut busy, mut other) = (0, Vec::new());
     while !done.load(Ordering::SeqCst) {
-        let mut stats = KeyloFrameStats {
-            size: std::mem::size_of::<KeyloFrameStats>() as u32,
-            ..KeyloFrameStats::default()
-        };
+        let mut stats = common::stats_out();
         // SAFETY: a live pipeline; `stats` writable.
         match unsafe { keylo_pipeline_stats(p, &mut stats) } {
             KEYLO_CAPI_BUSY => busy += 1,

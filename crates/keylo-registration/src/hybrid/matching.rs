@@ -33,51 +33,30 @@ mod tests {
     use super::*;
     use keylo_core::DescriptorData;
 
-    fn binary(rows: &[[u8; 4]]) -> Descriptors {
+    fn binary(rows: &[u8]) -> Descriptors {
         Descriptors {
             rows: rows.len(),
-            dim: 4,
-            data: DescriptorData::Binary(rows.iter().flatten().copied().collect()),
+            dim: 1,
+            data: DescriptorData::Binary(rows.to_vec()),
         }
     }
 
+    /// The nearest-row search itself is tested in `keylo_core::matching`; here, the filters.
     #[test]
-    fn cross_check_keeps_mutual_best_pairs() {
-        // The case of keylo-features' OpenCV matcher test: the same pairs come out.
-        let q = binary(&[[0, 0, 0, 0], [255, 255, 0, 0], [1, 0, 0, 0]]);
-        let t = binary(&[[255, 255, 0, 1], [0, 0, 0, 0]]);
-        assert_eq!(match_rows(&q, &t, 1.0, true), vec![(0, 1), (1, 0)]);
+    fn ratio_and_cross_check_filter_the_nearest_rows() {
+        let q = binary(&[0b0000_0000, 0b0000_1111, 0b0000_0001]);
+        let t = binary(&[0b0000_0000, 0b0000_0111, 0b1111_1111]);
+        // Row 2 (1 bit from train 0, 2 from train 1) is not mutual: row 0 is train 0's own.
+        assert_eq!(match_rows(&q, &t, 1.0, true), vec![(0, 0), (1, 1)]);
         assert_eq!(match_rows(&q, &t, 1.0, false).len(), 3);
-    }
-
-    #[test]
-    fn ratio_test_rejects_ambiguous_matches() {
-        let q = binary(&[[0, 0, 0, 0], [15, 0, 0, 0]]);
-        let t = binary(&[[0, 0, 0, 0], [255, 255, 255, 255], [3, 0, 0, 0]]);
-        assert_eq!(match_rows(&q, &t, 0.8, false).len(), 2);
-        assert_eq!(match_rows(&q, &t, 0.4, false), vec![(0, 0)]);
-    }
-
-    #[test]
-    fn float_rows_use_l2_and_mismatches_give_nothing() {
-        let f = |v: &[f32]| Descriptors {
-            rows: v.len() / 2,
-            dim: 2,
-            data: DescriptorData::Float(v.to_vec()),
+        // Ratio 0.4: row 1 (1 bit vs 4) passes, row 2 (1 vs 2) does not.
+        assert_eq!(match_rows(&q, &t, 0.4, false), vec![(0, 0), (1, 1)]);
+        // Sets that cannot be matched give no pair (the registrar goes on without them).
+        let float = Descriptors {
+            rows: 1,
+            dim: 1,
+            data: DescriptorData::Float(vec![0.0]),
         };
-        let m = match_rows(
-            &f(&[0.0, 0.0, 5.0, 5.0]),
-            &f(&[5.1, 5.0, 0.1, 0.0]),
-            0.8,
-            true,
-        );
-        assert_eq!(m, vec![(0, 1), (1, 0)]);
-        assert!(match_rows(&f(&[0.0, 0.0]), &binary(&[[0; 4]]), 0.8, true).is_empty());
-        let short = Descriptors {
-            rows: 2,
-            dim: 2,
-            data: DescriptorData::Float(vec![0.0; 3]),
-        };
-        assert!(match_rows(&short, &f(&[0.0, 0.0]), 0.8, true).is_empty());
+        assert!(match_rows(&q, &float, 0.8, true).is_empty());
     }
 }
