@@ -77,51 +77,47 @@ mod tests {
     use super::*;
     use keylo_core::DescriptorData;
 
-    fn binary(rows: &[[u8; 4]]) -> Descriptors {
+    fn binary(rows: &[u8]) -> Descriptors {
         Descriptors {
             rows: rows.len(),
-            dim: 4,
-            data: DescriptorData::Binary(rows.iter().flatten().copied().collect()),
+            dim: 1,
+            data: DescriptorData::Binary(rows.to_vec()),
         }
     }
 
+    /// The nearest-row search is tested in `keylo_core::matching`; here, what these add:
+    /// the order by distance, the kNN totals and the error for incompatible sets.
     #[test]
-    fn cross_check_keeps_mutual_best_pairs() {
-        let q = binary(&[[0, 0, 0, 0], [255, 255, 0, 0], [1, 0, 0, 0]]);
-        let t = binary(&[[255, 255, 0, 1], [0, 0, 0, 0]]);
-        let m = cross_checked(&q, &t, true).unwrap();
-        // Row 2 also prefers train 1 but row 0 is closer: cross-check drops it.
-        let pairs: Vec<(usize, usize)> = m.iter().map(|m| (m.query, m.train)).collect();
-        assert_eq!(pairs, vec![(0, 1), (1, 0)]);
-        assert_eq!(cross_checked(&q, &t, false).unwrap().len(), 3);
-    }
-
-    #[test]
-    fn ratio_test_rejects_ambiguous_matches() {
-        let q = binary(&[[0, 0, 0, 0], [15, 0, 0, 0]]);
-        let t = binary(&[[0, 0, 0, 0], [255, 255, 255, 255], [3, 0, 0, 0]]);
-        let (passed, total) = knn_ratio(&q, &t, 0.8).unwrap();
-        assert_eq!(total, 2);
-        // Row 0: 0 vs 2 bits → passes; row 1: 2 bits vs 4 bits → 2 < 3.2 passes too.
-        assert_eq!(passed.len(), 2);
-        let (passed, _) = knn_ratio(&q, &t, 0.4).unwrap();
-        assert_eq!(passed.len(), 1);
-    }
-
-    #[test]
-    fn empty_and_mismatched_sets() {
-        let q = binary(&[[0, 0, 0, 0]]);
-        let empty = Descriptors {
-            rows: 0,
-            dim: 0,
-            data: DescriptorData::Binary(Vec::new()),
-        };
-        assert!(cross_checked(&q, &empty, true).unwrap().is_empty());
+    fn matches_sorted_by_distance_and_knn_totals() {
+        let q = binary(&[0b0000_0111, 0b1111_0000, 0b0000_0001]);
+        let t = binary(&[0b0000_0000, 0b1111_0001]);
+        let m = cross_checked(&q, &t, false).unwrap();
+        let order: Vec<(usize, f32)> = m.iter().map(|m| (m.query, m.distance)).collect();
+        // Distances 3, 1, 1: sorted, ties in query order.
+        assert_eq!(order, vec![(1, 1.0), (2, 1.0), (0, 3.0)]);
+        // Cross-checked: train 0's nearest is query 2, train 1's is query 1.
+        let mutual: Vec<usize> = cross_checked(&q, &t, true)
+            .unwrap()
+            .iter()
+            .map(|m| m.query)
+            .collect();
+        assert_eq!(mutual, vec![1, 2]);
+        // kNN: every query row has two neighbours; 0.5 passes rows 1 (1 vs 4) and 2 (1 vs 4)
+        // but not row 0 (3 vs 6).
+        let (passed, total) = knn_ratio(&q, &t, 0.5).unwrap();
+        assert_eq!(total, 3);
+        assert_eq!(
+            passed.iter().map(|m| m.query).collect::<Vec<_>>(),
+            vec![1, 2]
+        );
+        // One train row: no pair has two neighbours, as OpenCV's knnMatch(k=2).
+        assert_eq!(knn_ratio(&q, &binary(&[0]), 0.5).unwrap().1, 0);
         let float = Descriptors {
             rows: 1,
-            dim: 4,
-            data: DescriptorData::Float(vec![0.0; 4]),
+            dim: 1,
+            data: DescriptorData::Float(vec![0.0]),
         };
         assert!(cross_checked(&q, &float, true).is_err());
+        assert!(cross_checked(&q, &binary(&[]), true).unwrap().is_empty());
     }
 }
