@@ -1,0 +1,23 @@
+//! The native part of the `keylo` Python package (`keylo._keylo`); the package in
+//! `python/keylo` re-exports it with type stubs.
+
+mod arrays;
+mod config;
+mod errors;
+mod frames;
+mod odometry;
+mod result;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _keylo(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    errors::register(m)?;
+    m.add_class::<odometry::Odometry>()?;
+    m.add_class::<result::FrameResult>()?;
+    m.add_class::<frames::Frame>()?;
+    m.add_class::<frames::Reader>()?;
+    m.add_function(wrap_pyfunction!(frames::open, m)?)?;
+    Ok(())
+}
