@@ -5,3 +5,6 @@ ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$ROOT/scripts/setup.sh"
 cd "$ROOT"
 cargo test --workspace --locked
+
+# The Python package and its pytest suite (docs/python.md).
+bash "$ROOT/scripts/python-test.sh"

@@ -52,7 +52,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let cpu0 = resources::cpu_seconds();
     let start = Instant::now();
     let mut outcome = RunState::default();
-    let mut journal = Journal::create(&out, config.output.tum, config.output.kitti)?;
+    let mut journal = Journal::create(&out, &config.output)?;
     process_all(
         &mut pipeline,
         &config,

@@ -8,7 +8,9 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use keylo::io::trajectory::{format_kitti_line, format_tum_line};
+use keylo::io::trajectory::{
+    format_kitti_line, format_kitti_line_exact, format_tum_line, format_tum_line_exact,
+};
 use keylo::Pose;
 
 use crate::report::{FrameRow, FRAMES_CSV_HEADER};
@@ -45,26 +47,38 @@ pub struct Journal {
     tum: Option<Stream>,
     kitti: Option<Stream>,
     frames: Stream,
+    /// Trajectory numbers in their shortest exact form (`[output] exact`).
+    exact: bool,
 }
 
 impl Journal {
     /// Creates (truncates) the files in `dir`; the trajectory files only where asked for.
-    pub fn create(dir: &Path, tum: bool, kitti: bool) -> Result<Self> {
+    pub fn create(dir: &Path, output: &keylo::config::OutputConfig) -> Result<Self> {
+        let (tum, kitti) = (output.tum, output.kitti);
         let stream = |name: &str| Stream::create(dir.join(name), None);
         Ok(Self {
             tum: tum.then(|| stream("trajectory.tum")).transpose()?,
             kitti: kitti.then(|| stream("trajectory.kitti")).transpose()?,
             frames: Stream::create(dir.join("frames.csv"), Some(FRAMES_CSV_HEADER))?,
+            exact: output.exact,
         })
     }
 
     /// Appends one registered frame to every file.
     pub fn record(&mut self, stamp: f64, pose: &Pose, row: &FrameRow) -> Result<()> {
         if let Some(s) = &mut self.tum {
-            s.append(&format_tum_line(stamp, pose))?;
+            s.append(&if self.exact {
+                format_tum_line_exact(stamp, pose)
+            } else {
+                format_tum_line(stamp, pose)
+            })?;
         }
         if let Some(s) = &mut self.kitti {
-            s.append(&format_kitti_line(pose))?;
+            s.append(&if self.exact {
+                format_kitti_line_exact(pose)
+            } else {
+                format_kitti_line(pose)
+            })?;
         }
         self.frames.append(&row.csv_line())
     }
@@ -77,7 +91,7 @@ mod tests {
     #[test]
     fn every_frame_is_on_disk_as_soon_as_it_is_recorded() {
         let dir = tempfile::tempdir().unwrap();
-        let mut j = Journal::create(dir.path(), true, true).unwrap();
+        let mut j = Journal::create(dir.path(), &keylo::config::OutputConfig::default()).unwrap();
         let row = FrameRow {
             frame: 0,
             stamp: 0.1,

@@ -2,8 +2,10 @@
 
 use keylo::Pose;
 use numpy::ndarray::{Array2, Array3, ArrayView, Dimension};
-use numpy::{Element, IntoPyArray, PyArray, PyArray2, PyArray3, PyReadonlyArray1,
-    PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{
+    Element, IntoPyArray, PyArray, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 use crate::errors::DataError;
@@ -51,8 +53,7 @@ pub unsafe fn borrowed<'py, T: Element, D: Dimension>(
 /// `obj` as a float64 N×C array (C in `cols`), converting float32 and other numbers; the
 /// error names `what` and the shape found.
 pub fn matrix_f64(obj: &Bound<'_, PyAny>, what: &str, cols: &[usize]) -> PyResult<Array2<f64>> {
-    let np = obj.py().import("numpy")?;
-    let arr = np.call_method1("asarray", (obj, "float64"))?;
+    let arr = as_float64(obj, what)?;
     let arr: PyReadonlyArray2<f64> = arr.extract().map_err(|_| {
         let shape = obj
             .getattr("shape")
@@ -79,9 +80,9 @@ pub fn matrix_f64(obj: &Bound<'_, PyAny>, what: &str, cols: &[usize]) -> PyResul
 pub fn vector_f64(obj: &Bound<'_, PyAny>, what: &str, n: usize) -> PyResult<Vec<f64>> {
     let np = obj.py().import("numpy")?;
     let arr = np.call_method1("asarray", (obj, "float64"))?;
-    let arr: PyReadonlyArray1<f64> = arr.extract().map_err(|_| {
-        DataError::new_err(format!("{what}: expected a 1-D array of {n} numbers"))
-    })?;
+    let arr: PyReadonlyArray1<f64> = arr
+        .extract()
+        .map_err(|_| DataError::new_err(format!("{what}: expected a 1-D array of {n} numbers")))?;
     if arr.len() != n {
         return Err(DataError::new_err(format!(
             "{what}: {} values for {n} points (one per point expected)",
@@ -89,6 +90,14 @@ pub fn vector_f64(obj: &Bound<'_, PyAny>, what: &str, n: usize) -> PyResult<Vec<
         )));
     }
     Ok(arr.as_array().to_vec())
+}
+
+/// `numpy.asarray(obj, float64)`; what numpy cannot convert is a DataError naming `what`.
+fn as_float64<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyAny>> {
+    let np = obj.py().import("numpy")?;
+    np.call_method1("asarray", (obj, "float64")).map_err(|e| {
+        DataError::new_err(format!("{what}: not an array of numbers ({e})"))
+    })
 }
 
 fn alternatives(cols: &[usize]) -> String {

@@ -95,8 +95,9 @@ impl Frame {
     fn xyz<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray3<f32>>> {
         let f = &slf.get().inner;
         // SAFETY: `Point3<f32>` is `#[repr(C)]`, three contiguous f32.
-        let flat: &[f32] =
-            unsafe { std::slice::from_raw_parts(f.points.as_ptr().cast::<f32>(), 3 * f.points.len()) };
+        let flat: &[f32] = unsafe {
+            std::slice::from_raw_parts(f.points.as_ptr().cast::<f32>(), 3 * f.points.len())
+        };
         let view = ArrayView3::from_shape((f.rows, f.cols, 3), flat)
             .map_err(|e| DataError::new_err(e.to_string()))?;
         // SAFETY: the view is of the frozen frame's own data, owned by `slf`.

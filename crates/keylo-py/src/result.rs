@@ -125,7 +125,13 @@ impl FrameResult {
     #[getter]
     fn keypoints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
-        for (c, points) in self.out.features.per_image.iter().zip(&self.out.keypoint_points) {
+        for (c, points) in self
+            .out
+            .features
+            .per_image
+            .iter()
+            .zip(&self.out.keypoint_points)
+        {
             let d = PyDict::new(py);
             let kp = &c.keypoints;
             d.set_item("image", c.image.name())?;

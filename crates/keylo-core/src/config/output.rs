@@ -31,6 +31,9 @@ pub struct OutputConfig {
     /// What to do with a frame a stage rejects (empty, all-NaN): `stop` or `skip`. A frame the
     /// source cannot read always stops the run.
     pub on_bad_frame: OnBadFrame,
+    /// Write the trajectory files' numbers in their shortest exact form (`1.2345678901234567e0`)
+    /// instead of 9 decimals (TUM) or 13 digits (KITTI): read back, bit for bit the poses.
+    pub exact: bool,
 }
 
 impl Default for OutputConfig {
@@ -41,6 +44,7 @@ impl Default for OutputConfig {
             kitti: true,
             gt: String::new(),
             on_bad_frame: OnBadFrame::Stop,
+            exact: false,
         }
     }
 }

@@ -88,12 +88,22 @@ pub fn format_kitti(traj: &Trajectory) -> String {
 
 /// One KITTI line (with its newline), as [`format_kitti`] writes it.
 pub fn format_kitti_line(pose: &Pose) -> String {
+    kitti_line(pose, |v| format!("{v:.12e}"))
+}
+
+/// [`format_kitti_line`] with every number in its shortest exact form (`{:e}`): read back,
+/// the matrix is bit for bit the pose's (`[output] exact = true`).
+pub fn format_kitti_line_exact(pose: &Pose) -> String {
+    kitti_line(pose, |v| format!("{v:e}"))
+}
+
+fn kitti_line(pose: &Pose, number: impl Fn(f64) -> String) -> String {
     let r = pose.rotation.to_rotation_matrix().into_inner();
     let t = pose.translation.vector;
     let mut fields = Vec::with_capacity(KITTI_COLUMNS);
     for row in 0..3 {
-        fields.extend((0..3).map(|col| format!("{:.12e}", r[(row, col)])));
-        fields.push(format!("{:.12e}", t[row]));
+        fields.extend((0..3).map(|col| number(r[(row, col)])));
+        fields.push(number(t[row]));
     }
     let mut line = fields.join(" ");
     line.push('\n');

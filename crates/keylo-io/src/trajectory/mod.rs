@@ -18,10 +18,12 @@ use keylo_core::Trajectory;
 
 pub use error::TrajectoryError;
 pub use kitti::{
-    format_kitti, format_kitti_line, parse_kitti, parse_kitti_with_times, read_kitti,
-    read_kitti_with_times, write_kitti, KITTI_COLUMNS,
+    format_kitti, format_kitti_line, format_kitti_line_exact, parse_kitti, parse_kitti_with_times,
+    read_kitti, read_kitti_with_times, write_kitti, KITTI_COLUMNS,
 };
-pub use tum::{format_tum, format_tum_line, parse_tum, read_tum, write_tum, TUM_COLUMNS};
+pub use tum::{
+    format_tum, format_tum_line, format_tum_line_exact, parse_tum, read_tum, write_tum, TUM_COLUMNS,
+};
 
 /// A trajectory file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

@@ -72,10 +72,20 @@ pub fn format_tum(traj: &Trajectory) -> String {
 
 /// One TUM line (with its newline), as [`format_tum`] writes it: for appending pose by pose.
 pub fn format_tum_line(stamp: f64, pose: &Pose) -> String {
+    tum_line(stamp, pose, |v| format!("{v:.9}"))
+}
+
+/// [`format_tum_line`] with every number in its shortest exact form (`{:e}`)
+/// (`[output] exact = true`).
+pub fn format_tum_line_exact(stamp: f64, pose: &Pose) -> String {
+    tum_line(stamp, pose, |v| format!("{v:e}"))
+}
+
+fn tum_line(stamp: f64, pose: &Pose, number: impl Fn(f64) -> String) -> String {
     let t = pose.translation.vector;
     let q = canonical(pose.rotation);
     let values = [stamp, t.x, t.y, t.z, q.i, q.j, q.k, q.w];
-    let fields: Vec<String> = values.iter().map(|v| format!("{v:.9}")).collect();
+    let fields: Vec<String> = values.iter().map(|&v| number(v)).collect();
     let mut line = fields.join(" ");
     line.push('\n');
     line
