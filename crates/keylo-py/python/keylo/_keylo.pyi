@@ -1,0 +1,120 @@
+"""Type stubs of keylo's native module (crates/keylo-py)."""
+
+import os
+from collections.abc import Iterator, Mapping
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class KeyloError(Exception): ...
+class ConfigError(KeyloError): ...
+class DataError(KeyloError): ...
+class StageError(KeyloError): ...
+class PluginError(KeyloError): ...
+
+ConfigArg = str | os.PathLike[str] | Mapping[str, Any] | None
+
+class FrameResult:
+    """The result of one frame."""
+
+    @property
+    def index(self) -> int: ...
+    @property
+    def stamp(self) -> float: ...
+    @property
+    def pose(self) -> npt.NDArray[np.float64]:
+        """4×4 sensor pose in the world (first-frame) frame."""
+    @property
+    def keypoint_count(self) -> int: ...
+    @property
+    def cloud_points(self) -> int: ...
+    @property
+    def registered_points(self) -> int: ...
+    @property
+    def map_points(self) -> int: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def timings(self) -> dict[str, float]:
+        """Seconds per stage: image, detect, describe, downsample, register, total."""
+    @property
+    def degeneracy(self) -> dict[str, Any] | None: ...
+    def covariance(self, sigma: float) -> npt.NDArray[np.float64] | None:
+        """6×6 covariance sigma² H⁻¹ of the twist [tx, ty, tz, rx, ry, rz]."""
+    @property
+    def keypoints(self) -> list[dict[str, Any]]:
+        """Per image: image, xy (N×2), size, angle, response, points (N×3), descriptors."""
+
+class Frame:
+    """One frame of a source; arrays are read-only views (no copy)."""
+
+    @property
+    def index(self) -> int: ...
+    @property
+    def timestamp(self) -> float: ...
+    @property
+    def rows(self) -> int: ...
+    @property
+    def cols(self) -> int: ...
+    @property
+    def range(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def signal(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def reflectivity(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def near_ir(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def valid(self) -> npt.NDArray[np.bool_]: ...
+    @property
+    def xyz(self) -> npt.NDArray[np.float32]:
+        """rows×cols×3 sensor-frame points."""
+    @property
+    def column_times(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def points(self) -> npt.NDArray[np.float64] | None:
+        """Every point of an unorganised scan (N×3), None for organised sources."""
+    @property
+    def point_times(self) -> npt.NDArray[np.float64] | None: ...
+
+class Reader(Iterator[Frame]):
+    """The frames of a source."""
+
+    def __iter__(self) -> Reader: ...
+    def __next__(self) -> Frame: ...
+    def ground_truth(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]] | None:
+        """(stamps N, poses N×4×4), or None when the source has none."""
+
+def open(
+    path: str | os.PathLike[str] | None = None, kind: str | None = None, **keys: Any
+) -> Reader:
+    """The frames of `path` (kind detected) or of source `kind` (e.g. "sim")."""
+
+class Odometry:
+    """The per-frame stages of a config (TOML path, TOML text or dict)."""
+
+    def __init__(self, config: ConfigArg = None) -> None: ...
+    def process(
+        self,
+        points: npt.ArrayLike,
+        times: npt.ArrayLike | None = None,
+        stamp: float | None = None,
+    ) -> FrameResult:
+        """Registers an N×3 or N×4 (with intensity) scan."""
+    def process_frame(self, frame: Frame) -> FrameResult: ...
+    @property
+    def frames(self) -> int: ...
+    @property
+    def trajectory(self) -> npt.NDArray[np.float64]:
+        """N×4×4 poses."""
+    @property
+    def stamps(self) -> npt.NDArray[np.float64]: ...
+    def local_map(self) -> npt.NDArray[np.float64]: ...
+    def set_motion_prior(self, delta: npt.ArrayLike) -> None: ...
+    def set_pose(self, pose: npt.ArrayLike) -> None: ...
+    def reset(self) -> None: ...
