@@ -13,7 +13,8 @@ cd "$ROOT"
 if [ ! -x "$VENV/bin/python" ]; then
     python3 -m venv "$VENV"
 fi
-"$VENV/bin/pip" install -q --disable-pip-version-check "maturin>=1.16,<1.17" "numpy>=1.24" "pytest>=7"
+"$VENV/bin/pip" install -q --disable-pip-version-check "maturin>=1.16,<1.17" "numpy>=1.24" "pytest>=7" \
+    opencv-python-headless
 VIRTUAL_ENV="$VENV" PATH="$VENV/bin:$PATH" maturin develop -q --locked -m crates/keylo-py/Cargo.toml 2>&1 \
     | grep -v -i patchelf || true
 cargo build -q --locked -p keylo-cli

@@ -95,9 +95,8 @@ pub fn vector_f64(obj: &Bound<'_, PyAny>, what: &str, n: usize) -> PyResult<Vec<
 /// `numpy.asarray(obj, float64)`; what numpy cannot convert is a DataError naming `what`.
 fn as_float64<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<Bound<'py, PyAny>> {
     let np = obj.py().import("numpy")?;
-    np.call_method1("asarray", (obj, "float64")).map_err(|e| {
-        DataError::new_err(format!("{what}: not an array of numbers ({e})"))
-    })
+    np.call_method1("asarray", (obj, "float64"))
+        .map_err(|e| DataError::new_err(format!("{what}: not an array of numbers ({e})")))
 }
 
 fn alternatives(cols: &[usize]) -> String {

@@ -152,6 +152,9 @@ impl Frame {
     }
 }
 
+/// Stamps (N) and poses (N×4×4).
+type Stamped<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray3<f64>>);
+
 /// The frames of a source, in order; iterate it. `ground_truth()` gives the source's ground
 /// truth (the simulator, KITTI with poses) as `(stamps, N×4×4)`, or None.
 #[pyclass(module = "keylo")]
@@ -179,10 +182,7 @@ impl Reader {
     }
 
     /// `(stamps, poses)`: the ground truth as an N array and an N×4×4 array, or None.
-    fn ground_truth<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<Option<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray3<f64>>)>> {
+    fn ground_truth<'py>(&self, py: Python<'py>) -> PyResult<Option<Stamped<'py>>> {
         let source = self
             .source
             .lock()

@@ -3,6 +3,7 @@
 
 mod arrays;
 mod config;
+mod detectors;
 mod errors;
 mod frames;
 mod odometry;
@@ -19,5 +20,6 @@ fn _keylo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<frames::Frame>()?;
     m.add_class::<frames::Reader>()?;
     m.add_function(wrap_pyfunction!(frames::open, m)?)?;
+    m.add_function(wrap_pyfunction!(detectors::register_detector, m)?)?;
     Ok(())
 }

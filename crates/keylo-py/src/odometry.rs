@@ -66,9 +66,10 @@ fn pose_arg(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Pose> {
 impl Odometry {
     #[new]
     #[pyo3(signature = (config=None))]
-    fn new(config: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+    fn new(py: Python<'_>, config: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
         let raw = raw_config(config)?;
-        let frontend = Frontend::from_raw(raw, keylo::registry()).map_err(frontend)?;
+        let registry = crate::detectors::registry(py)?;
+        let frontend = Frontend::from_raw(raw, registry).map_err(frontend)?;
         Ok(Self {
             state: Mutex::new(State {
                 frontend,

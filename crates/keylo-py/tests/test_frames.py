@@ -38,3 +38,9 @@ def test_the_simulator_gives_frames_and_ground_truth():
     stamps, poses = reader.ground_truth()
     assert len(frames) == 4 and poses.shape == (4, 4, 4) and stamps.shape == (4,)
     assert frames[0].rows == 64 and frames[0].cols == 512
+
+
+def test_sim_returns_frames_and_ground_truth():
+    frames, stamps, poses = keylo.sim("corridor", 3, sensor="os1-64", columns=512)
+    assert len(frames) == 3 and poses.shape == (3, 4, 4)
+    np.testing.assert_array_equal(stamps, [f.timestamp for f in frames])

@@ -203,9 +203,14 @@ impl Odometry {
         })?;
         self.check_time_order(frame)?;
         let mut timings = StageTimings::default();
-        let features = self.features(frame, &mut timings)?;
+        let features = self
+            .features(frame, &mut timings)
+            .map_err(|e| in_frame(e, frame.index))?;
         let t = Instant::now();
-        let cloud = self.downsampler.downsample(frame, &features)?;
+        let cloud = self
+            .downsampler
+            .downsample(frame, &features)
+            .map_err(|e| in_frame(e, frame.index))?;
         timings.downsample = t.elapsed().as_secs_f64();
         if cloud.is_empty() && !self.registrar.accepts_empty_clouds() {
             return Err(CoreError::BadFrame {
@@ -231,13 +236,7 @@ impl Odometry {
         } else {
             self.registrar.register(&cloud)
         };
-        let reg = registered.map_err(|e| match e {
-            CoreError::Stage { stage, message } => CoreError::Stage {
-                stage,
-                message: format!("frame {}: {message}", frame.index),
-            },
-            other => other,
-        })?;
+        let reg = registered.map_err(|e| in_frame(e, frame.index))?;
         timings.register = t.elapsed().as_secs_f64();
         let cloud_points = cloud.len();
         self.last_cloud = Some(cloud);
@@ -356,6 +355,17 @@ impl Odometry {
         }
         self.checked_images = true;
         Ok(())
+    }
+}
+
+/// A stage error of frame `index`, naming it (other errors already name what they concern).
+fn in_frame(e: CoreError, index: u64) -> CoreError {
+    match e {
+        CoreError::Stage { stage, message } => CoreError::Stage {
+            stage,
+            message: format!("frame {index}: {message}"),
+        },
+        other => other,
     }
 }
 

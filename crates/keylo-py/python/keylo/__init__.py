@@ -16,7 +16,22 @@ from keylo._keylo import (
     StageError,
     __version__,
     open,
+    register_detector,
 )
+
+
+
+def sim(scene="lab", frames=100, **keys):
+    """Simulated frames and their ground truth: ``(frames, stamps, poses)``.
+
+    ``scene`` is ``lab``, ``corridor`` or ``road``; more keys are the simulator's ``[source]``
+    keys (``sensor``, ``columns``, ``motion_distortion``, …). ``poses`` is N×4×4.
+    """
+    reader = open(kind="sim", scene=scene, frames=frames, **keys)
+    out = list(reader)
+    stamps, poses = reader.ground_truth()
+    return out, stamps, poses
+
 
 __all__ = [
     "ConfigError",
@@ -30,4 +45,6 @@ __all__ = [
     "StageError",
     "__version__",
     "open",
+    "register_detector",
+    "sim",
 ]
