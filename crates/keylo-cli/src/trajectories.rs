@@ -1,67 +1,32 @@
-//! Reading trajectories for evaluation, and pairing a KITTI file (no time stamps: its stamps
-//! are the line numbers) with a time-stamped TUM trajectory.
+//! Trajectories for evaluation (`keylo_io::trajectory::Labelled`), with the CLI's messages.
 
 use std::path::Path;
 
-use anyhow::{bail, Context, Result};
-use keylo::io::trajectory::{detect_format, parse_kitti, parse_tum, Format};
+use anyhow::Result;
+pub use keylo::io::trajectory::Labelled;
 use keylo::Trajectory;
-
-/// A trajectory with the format it was read in and a label for messages.
-pub struct Labelled {
-    pub trajectory: Trajectory,
-    pub format: Format,
-    pub label: String,
-}
 
 /// Reads a TUM or KITTI file.
 pub fn read(path: &Path) -> Result<Labelled> {
-    let label = path.display().to_string();
-    let text = std::fs::read_to_string(path).with_context(|| format!("reading {label}"))?;
-    let format = detect_format(&text, &label)?;
-    let trajectory = match format {
-        Format::Tum => parse_tum(&text, &label)?,
-        Format::Kitti => parse_kitti(&text, &label)?,
-    };
-    Ok(Labelled {
-        trajectory,
-        format,
-        label,
-    })
+    Ok(Labelled::read(path)?)
 }
 
 /// A trajectory known to be time-stamped (e.g. keylo's own estimate).
 pub fn stamped(trajectory: Trajectory, label: &str) -> Labelled {
-    Labelled {
-        trajectory,
-        format: Format::Tum,
-        label: label.into(),
-    }
+    Labelled::stamped(trajectory, label)
 }
 
-/// Makes the stamps of `a` and `b` comparable. When exactly one is a KITTI file, its poses are
-/// given the other's stamps, one for one, which requires equal lengths.
+/// Makes the stamps of `a` and `b` comparable (a KITTI file takes the other's stamps).
 pub fn reconcile(a: &mut Labelled, b: &mut Labelled) -> Result<()> {
-    let (kitti, other) = match (a.format, b.format) {
-        (Format::Kitti, Format::Tum) => (a, b),
-        (Format::Tum, Format::Kitti) => (b, a),
-        _ => return Ok(()),
+    use keylo::io::trajectory::Format;
+    let kitti = match (a.format, b.format) {
+        (Format::Kitti, Format::Tum) => Some(a.label.clone()),
+        (Format::Tum, Format::Kitti) => Some(b.label.clone()),
+        _ => None,
     };
-    let (n, m) = (kitti.trajectory.len(), other.trajectory.len());
-    if n != m {
-        bail!(
-            "{} is a KITTI file (no time stamps) and {} has {m} time-stamped poses, not {n}: \
-             poses can only be paired one for one; give both as TUM or both as KITTI",
-            kitti.label,
-            other.label
-        );
+    keylo::io::trajectory::reconcile(a, b)?;
+    if let Some(k) = kitti {
+        tracing::info!("{k} has no time stamps: paired one for one with the other trajectory");
     }
-    tracing::info!(
-        "{} has no time stamps: pairing its poses one for one with {}",
-        kitti.label,
-        other.label
-    );
-    kitti.trajectory.stamps.clone_from(&other.trajectory.stamps);
-    kitti.format = Format::Tum;
     Ok(())
 }

@@ -5,6 +5,7 @@ mod arrays;
 mod config;
 mod detectors;
 mod errors;
+mod eval;
 mod frames;
 mod odometry;
 mod result;
@@ -21,5 +22,6 @@ fn _keylo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<frames::Reader>()?;
     m.add_function(wrap_pyfunction!(frames::open, m)?)?;
     m.add_function(wrap_pyfunction!(detectors::register_detector, m)?)?;
+    m.add_function(wrap_pyfunction!(eval::evaluate, m)?)?;
     Ok(())
 }

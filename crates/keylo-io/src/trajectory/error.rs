@@ -87,6 +87,22 @@ pub enum TrajectoryError {
         /// What is wrong.
         reason: String,
     },
+    /// A KITTI file (no stamps) paired one for one with a trajectory of another length.
+    #[error(
+        "{kitti} is a KITTI file (no time stamps) and {other} has {other_poses} time-stamped \
+         poses, not {kitti_poses}: poses can only be paired one for one; give both as TUM or \
+         both as KITTI"
+    )]
+    Unpairable {
+        /// The KITTI file.
+        kitti: String,
+        /// Its poses.
+        kitti_poses: usize,
+        /// The other trajectory.
+        other: String,
+        /// Its poses.
+        other_poses: usize,
+    },
     /// `read_kitti_with_times` got a times vector of the wrong length.
     #[error("{file}: {poses} poses but {times} timestamps were given")]
     TimesMismatch {

@@ -8,6 +8,7 @@
 mod error;
 mod file;
 mod kitti;
+mod labelled;
 mod lines;
 mod rotation;
 mod tum;
@@ -21,6 +22,7 @@ pub use kitti::{
     format_kitti, format_kitti_line, format_kitti_line_exact, parse_kitti, parse_kitti_with_times,
     read_kitti, read_kitti_with_times, write_kitti, KITTI_COLUMNS,
 };
+pub use labelled::{reconcile, Labelled};
 pub use tum::{
     format_tum, format_tum_line, format_tum_line_exact, parse_tum, read_tum, write_tum, TUM_COLUMNS,
 };

@@ -15,6 +15,7 @@ from keylo._keylo import (
     Reader,
     StageError,
     __version__,
+    evaluate,
     open,
     register_detector,
 )
@@ -44,6 +45,7 @@ __all__ = [
     "Reader",
     "StageError",
     "__version__",
+    "evaluate",
     "open",
     "register_detector",
     "sim",

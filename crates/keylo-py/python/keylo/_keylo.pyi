@@ -123,3 +123,15 @@ def register_detector(name: str, obj: Any) -> None:
     """Makes `kind = "python:NAME"` a detector (obj.detect(image) -> N×2..N×5 array) and, with
     obj.describe(image, keypoints) -> (keypoints, descriptors), a descriptor, for every config
     built afterwards."""
+
+def evaluate(
+    est: str | os.PathLike[str] | npt.ArrayLike,
+    gt: str | os.PathLike[str] | npt.ArrayLike,
+    est_stamps: npt.ArrayLike | None = None,
+    gt_stamps: npt.ArrayLike | None = None,
+    align: str = "se3",
+    t_max_diff: float = 0.01,
+    t_offset: float = 0.0,
+    rpe_delta: int = 1,
+) -> dict[str, Any]:
+    """ATE/RPE/drift as `keylo eval` computes them; files (TUM/KITTI) or N×4×4 arrays."""
