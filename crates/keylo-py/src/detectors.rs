@@ -9,7 +9,7 @@ use keylo::{
     BuildContext, CoreError, Descriptor, DescriptorData, Descriptors, Detector, Image, Keypoint,
     Registry,
 };
-use numpy::ndarray::{Array2, ArrayView3};
+use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -143,23 +143,28 @@ impl PyBackend {
         CoreError::stage(stage, format!("Python backend `{}`: {message}", self.name))
     }
 
-    /// The image as a uint8 array (H×W, or H×W×C).
+    /// The image as a uint8 array (H×W, or H×W×C), one copy of its rows.
     fn image_array<'py>(&self, py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyAny>> {
-        let rows: Vec<u8> = (0..image.height)
-            .flat_map(|y| {
-                let start = y * image.stride;
-                image.data[start..start + image.width * image.channels]
-                    .iter()
-                    .copied()
-            })
-            .collect();
-        let view = ArrayView3::from_shape((image.height, image.width, image.channels), &rows)
-            .map_err(|e| PluginError::new_err(e.to_string()))?;
-        let arr = view.to_owned().into_pyarray(py).into_any();
-        if image.channels == 1 {
-            arr.call_method1("reshape", ((image.height, image.width),))
+        let row = image.width * image.channels;
+        let data: Vec<u8> = if image.stride == row {
+            image.data[..row * image.height].to_vec()
         } else {
-            Ok(arr)
+            (0..image.height)
+                .flat_map(|y| {
+                    image.data[y * image.stride..y * image.stride + row]
+                        .iter()
+                        .copied()
+                })
+                .collect()
+        };
+        let bad = |e: numpy::ndarray::ShapeError| PluginError::new_err(e.to_string());
+        if image.channels == 1 {
+            let a = Array2::from_shape_vec((image.height, image.width), data).map_err(bad)?;
+            Ok(a.into_pyarray(py).into_any())
+        } else {
+            let shape = (image.height, image.width, image.channels);
+            let a = numpy::ndarray::Array3::from_shape_vec(shape, data).map_err(bad)?;
+            Ok(a.into_pyarray(py).into_any())
         }
     }
 
@@ -171,16 +176,21 @@ impl PyBackend {
         image: &Image,
     ) -> Result<Vec<Keypoint>, CoreError> {
         let expected = "an N×2 to N×5 array (x, y[, size, angle, response])";
-        let np = obj.py().import("numpy").map_err(|e| self.error(stage, e))?;
-        let arr = np
-            .call_method1("asarray", (obj, "float32"))
-            .and_then(|a| a.extract::<PyReadonlyArray2<f32>>())
-            .map_err(|_| {
-                self.error(
-                    stage,
-                    format!("returned {}, expected {expected}", describe(obj)),
-                )
-            })?;
+        // A float32 N×k array is read as it is; anything else goes through numpy.asarray.
+        let arr = match obj.extract::<PyReadonlyArray2<f32>>() {
+            Ok(a) => a,
+            Err(_) => obj
+                .py()
+                .import("numpy")
+                .and_then(|np| np.call_method1("asarray", (obj, "float32")))
+                .and_then(|a| a.extract::<PyReadonlyArray2<f32>>())
+                .map_err(|_| {
+                    self.error(
+                        stage,
+                        format!("returned {}, expected {expected}", describe(obj)),
+                    )
+                })?,
+        };
         let shape = arr.shape();
         if !(2..=5).contains(&shape[1]) && shape[0] > 0 {
             return Err(self.error(
