@@ -12,6 +12,12 @@ mod result;
 
 use pyo3::prelude::*;
 
+// mimalloc, as the `keylo` binary: a frame owns several MB of fresh buffers, and glibc's
+// malloc hands them back to the kernel and maps them again frame after frame
+// (docs/results/ouster-decode.md). Arrays lent to numpy are freed by Rust, so by it as well.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[pymodule]
 fn _keylo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
