@@ -11,7 +11,15 @@ ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 VENV="${KEYLO_PY_VENV:-$ROOT/target/py-venv}"
 cd "$ROOT"
 if [ ! -x "$VENV/bin/python" ]; then
-    python3 -m venv "$VENV"
+    if ! python3 -m venv "$VENV" 2>/dev/null; then
+        # Debian's python3 has no ensurepip without python3-venv.
+        SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+        echo "[python-test] installing python3-venv" >&2
+        $SUDO apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends python3-venv >/dev/null
+        rm -rf "$VENV"
+        python3 -m venv "$VENV"
+    fi
 fi
 "$VENV/bin/pip" install -q --disable-pip-version-check "maturin>=1.16,<1.17" "numpy>=1.24" "pytest>=7" \
     opencv-python-headless
