@@ -1,5 +1,7 @@
 """No memory growth over 10 000 `process` calls (beyond the trajectory itself)."""
 
+import resource
+
 import numpy as np
 
 import keylo
@@ -8,8 +10,6 @@ import keylo
 def rss_mb():
     with open("/proc/self/statm") as f:
         pages = int(f.read().split()[1])
-    import resource
-
     return pages * resource.getpagesize() / 2**20
 
 
@@ -20,15 +20,15 @@ def test_ten_thousand_calls_do_not_grow_memory():
     odometry = keylo.Odometry(
         {"registrar": {"kind": "kiss-icp", "max_range": 20.0, "degeneracy": {"analyse": False}}}
     )
-    for k in range(1000):
+    samples = []
+    for k in range(10_000):
         result = odometry.process(points, stamp=0.1 * k)
         _ = result.pose, result.timings, result.keypoints
-    before = rss_mb()
-    for k in range(1000, 10_000):
-        result = odometry.process(points, stamp=0.1 * k)
-        _ = result.pose, result.timings, result.keypoints
-    grown = rss_mb() - before
-    # 9 000 poses and stamps of the trajectory are about 0.6 MB; a leak of 1 KB per call
-    # would be 9 MB.
-    assert grown < 4.0, f"RSS grew {grown:.1f} MB over 9000 calls"
+        if k >= 2000 and k % 1000 == 999:
+            samples.append(rss_mb())
+    # Eight samples after 2 000 calls of warm-up: the allocator's own ups and downs are about
+    # ±1.5 MB; a leak of 1 KB per call would put the last three 5 MB above the first three.
+    # (The trajectory's 10 000 poses and stamps are about 0.6 MB of it.)
+    grown = np.mean(samples[-3:]) - np.mean(samples[:3])
+    assert grown < 3.0, f"RSS grew {grown:.1f} MB from calls 3000–5000 to 8000–10000: {samples}"
     assert odometry.frames == 10_000
