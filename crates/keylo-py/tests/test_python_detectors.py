@@ -118,3 +118,19 @@ def test_the_numpy_example_runs_and_tracks():
     counts, drift = example.run(frames=8)
     assert min(counts) > 20
     assert drift < 0.2, f"{drift} m off the simulator's ground truth"
+
+
+def test_the_onnx_example_matches_keylos_superpoint():
+    pytest.importorskip("onnxruntime")
+    spec = importlib.util.spec_from_file_location("superpoint_onnx", ROOT / "examples/python/superpoint_onnx.py")
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    compared = 0
+    for ours, builtin in example.run(frames=2):
+        for a, b in zip(ours, builtin, strict=True):
+            assert a["image"] == b["image"]
+            np.testing.assert_array_equal(a["xy"], b["xy"])
+            np.testing.assert_allclose(a["response"], b["response"], rtol=1e-4, atol=1e-6)
+            np.testing.assert_allclose(a["descriptors"], b["descriptors"], atol=1e-4)
+            compared += len(a["xy"])
+    assert compared > 100
