@@ -127,3 +127,49 @@ def test_slam_hooks(sim_bins):
     assert np.array_equal(odometry.process_frame(frames[2]).pose, np.eye(4))
     with pytest.raises(keylo.DataError, match="not a rigid transform"):
         odometry.set_motion_prior(np.eye(4) * 2)
+
+
+def test_run_gives_keylo_runs_trajectory_and_accuracy(keylo_bin, tmp_path):
+    """keylo.run on a config's own source (the simulator) against `keylo run` on the config."""
+    import json
+
+    config = CONFIG + '\n[source]\nkind = "sim"\nscene = "lab"\nframes = 12\nsensor = "os1-64"\ncolumns = 512\n'
+    cfg = tmp_path / "sim.toml"
+    cfg.write_text(config)
+    out = tmp_path / "out"
+    run_cli(keylo_bin, "run", cfg, "--out", out, "-q")
+    cli_poses = np.loadtxt(out / "trajectory.kitti", ndmin=2).reshape(-1, 3, 4)
+    cli_summary = json.loads((out / "summary.json").read_text())
+    records, summary = keylo.run(cfg)
+    assert len(records) == summary["frames"] == len(cli_poses) == 12
+    np.testing.assert_array_equal(summary["trajectory"][:, :3, :], cli_poses)
+    assert summary["mean_cloud_points"] == cli_summary["mean_cloud_points"]
+    ours, theirs = summary["accuracy"], cli_summary["accuracy"]
+    for key in ("associated_poses", "ate_rmse_m", "rpe_trans_rmse_m", "rpe_rot_rmse_deg"):
+        assert ours[key] == pytest.approx(theirs[key], rel=1e-9, abs=1e-12), key
+    assert not summary["interrupted"]
+    assert {"index", "stamp", "x", "cloud_points", "odometry_ms"} <= set(records[0])
+
+
+def test_ctrl_c_stops_a_long_run_and_keeps_the_frames_done(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = tmp_path / "long.py"
+    script.write_text(
+        "import keylo, sys\n"
+        "print('started', flush=True)\n"
+        "records, summary = keylo.run({'source': {'kind': 'sim', 'frames': 100000,"
+        " 'sensor': 'os1-64', 'columns': 512}})\n"
+        "print(summary['interrupted'], summary['frames'], len(summary['trajectory']), flush=True)\n"
+    )
+    p = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(3.0)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    interrupted, frames, poses = out.split()
+    assert p.returncode == 0
+    assert interrupted == "True" and int(frames) == int(poses) > 0

@@ -34,6 +34,90 @@ def sim(scene="lab", frames=100, **keys):
     return out, stamps, poses
 
 
+def _config_table(config):
+    """The config as a dict (for its ``[source]``), and its folder for relative paths."""
+    import os
+    import pathlib
+    import tomllib
+
+    if config is None:
+        return {}, pathlib.Path(".")
+    if isinstance(config, dict):
+        return config, pathlib.Path(".")
+    if isinstance(config, os.PathLike) or (isinstance(config, str) and "\n" not in config
+                                           and config.endswith(".toml")):
+        path = pathlib.Path(config)
+        with path.open("rb") as f:
+            return tomllib.load(f), path.parent
+    return tomllib.loads(config), pathlib.Path(".")
+
+
+def run(config=None, data=None, gt=None, **source):
+    """Runs a config over data in this process, as ``keylo run`` does.
+
+    ``config`` is what ``Odometry`` takes. The frames come from ``data`` (any path
+    ``keylo.open`` reads, with ``source`` keys) or else from the config's ``[source]``
+    (the simulator by default). ``gt`` is a TUM/KITTI file; without it, the source's own
+    ground truth is used when it has one.
+
+    Returns ``(records, summary)``: one dict per frame (``index``, ``stamp``, ``x``, ``y``,
+    ``z``, point counts, ``iterations``, ``converged``, ``odometry_ms``), pandas-friendly, and
+    a dict with ``frames``, ``mean_cloud_points``, ``mean_odometry_ms``, ``trajectory``
+    (N×4×4), ``stamps``, ``accuracy`` (``keylo.evaluate``'s figures, or None) and
+    ``interrupted`` (Ctrl-C stops the run; the frames done are kept).
+    """
+    import numpy as np
+
+    table, folder = _config_table(config)
+    if data is not None:
+        reader = open(data, **source)
+    else:
+        src = dict(table.get("source", {}))
+        src.pop("projection", None)
+        kind = src.pop("kind", "sim")
+        path = src.pop("path", None)
+        if path is not None and not __import__("os").path.isabs(path):
+            path = folder / path
+        reader = open(path, kind=kind, **src, **source)
+    odometry = Odometry(config)
+    results, interrupted = [], False
+    try:
+        for frame in reader:
+            results.append(odometry.process_frame(frame))
+    except KeyboardInterrupt:
+        interrupted = True
+    # A Ctrl-C between a frame's registration and its append leaves it out of both.
+    n = len(results)
+    trajectory, stamps = odometry.trajectory[:n], odometry.stamps[:n]
+    records = []
+    for r in results:
+        x, y, z = r.pose[:3, 3]
+        records.append({
+            "index": r.index, "stamp": r.stamp, "x": x, "y": y, "z": z,
+            "keypoints": r.keypoint_count, "cloud_points": r.cloud_points,
+            "registered_points": r.registered_points, "map_points": r.map_points,
+            "iterations": r.iterations, "converged": r.converged,
+            "odometry_ms": 1e3 * r.timings["total"],
+        })
+    accuracy = None
+    if records:
+        if gt is not None:
+            accuracy = evaluate(trajectory, gt, est_stamps=stamps)
+        elif (truth := reader.ground_truth()) is not None:
+            gt_stamps, poses = truth
+            accuracy = evaluate(trajectory, poses, est_stamps=stamps, gt_stamps=gt_stamps)
+    summary = {
+        "frames": len(records),
+        "mean_cloud_points": float(np.mean([r["cloud_points"] for r in records])) if records else 0.0,
+        "mean_odometry_ms": float(np.mean([r["odometry_ms"] for r in records])) if records else 0.0,
+        "trajectory": trajectory,
+        "stamps": stamps,
+        "accuracy": accuracy,
+        "interrupted": interrupted,
+    }
+    return records, summary
+
+
 __all__ = [
     "ConfigError",
     "DataError",
@@ -48,5 +132,6 @@ __all__ = [
     "evaluate",
     "open",
     "register_detector",
+    "run",
     "sim",
 ]
