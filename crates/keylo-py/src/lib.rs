@@ -7,6 +7,7 @@ mod detectors;
 mod errors;
 mod eval;
 mod frames;
+mod keypoints;
 mod odometry;
 mod result;
 
@@ -29,5 +30,6 @@ fn _keylo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(frames::open, m)?)?;
     m.add_function(wrap_pyfunction!(detectors::register_detector, m)?)?;
     m.add_function(wrap_pyfunction!(eval::evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(keypoints::evaluate_keypoints, m)?)?;
     Ok(())
 }

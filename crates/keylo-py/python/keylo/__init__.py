@@ -34,6 +34,9 @@ def sim(scene="lab", frames=100, **keys):
     return out, stamps, poses
 
 
+from keylo import keypoints  # noqa: E402  (keylo.keypoints.evaluate)
+
+
 def _config_table(config):
     """The config as a dict (for its ``[source]``), and its folder for relative paths."""
     import os
@@ -130,6 +133,7 @@ __all__ = [
     "StageError",
     "__version__",
     "evaluate",
+    "keypoints",
     "open",
     "register_detector",
     "run",

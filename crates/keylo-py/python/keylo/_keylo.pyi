@@ -135,3 +135,8 @@ def evaluate(
     rpe_delta: int = 1,
 ) -> dict[str, Any]:
     """ATE/RPE/drift as `keylo eval` computes them; files (TUM/KITTI) or N×4×4 arrays."""
+
+def evaluate_keypoints(
+    images: Any, combos: str = "paper", spec: str | None = None, jobs: int = 1
+) -> tuple[list[dict[str, Any]], list[dict[str, Any]], list[tuple[str, str]]]:
+    """See keylo.keypoints.evaluate."""
