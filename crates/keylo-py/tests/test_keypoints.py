@@ -46,3 +46,26 @@ def test_bad_images_and_combos_are_named():
         keylo.keypoints.evaluate([np.zeros((64, 64), np.uint8), np.zeros((64, 64))])
     with pytest.raises(keylo.ConfigError, match="NOPE"):
         keylo.keypoints.evaluate([np.zeros((64, 64), np.uint8)] * 2, combos="NOPE_NOPE")
+
+
+def test_a_python_detector_takes_part_in_the_study():
+    cv2 = pytest.importorskip("cv2")
+
+    class CvFast:
+        def __init__(self, threshold):
+            self.fast = cv2.FastFeatureDetector_create(threshold=threshold, nonmaxSuppression=True)
+
+        def detect(self, image):
+            kps = self.fast.detect(image)
+            return np.array([(k.pt[0], k.pt[1], k.size, k.angle, k.response) for k in kps],
+                            np.float32).reshape(-1, 5)
+
+    keylo.register_detector("cvfast", CvFast(threshold=30))  # the paper preset's FAST
+    files = sorted((FIXTURES / "images" / "sim").glob("*.png"))
+    images = [cv2.imread(str(p), cv2.IMREAD_UNCHANGED) for p in files]
+    ours, _, _ = keylo.keypoints.evaluate(images, combos="python:cvfast_BRISK")
+    builtin, _, _ = keylo.keypoints.evaluate(images, combos="FAST_BRISK")
+    assert len(ours) == len(builtin) == len(images)
+    for a, b in zip(ours, builtin):
+        for k in ("keypoints", "described", "robustness_rotation", "matches", "match_ratio"):
+            assert a[k] == b[k], k
