@@ -121,6 +121,61 @@ def run(config=None, data=None, gt=None, **source):
     return records, summary
 
 
+def _with_override(table, key, value):
+    """A copy of config ``table`` with dotted ``key`` set to ``value``."""
+    import copy
+
+    out = copy.deepcopy(table)
+    node = out
+    *path, last = key.split(".")
+    for part in path:
+        node = node.setdefault(part, {})
+    node[last] = value
+    return out
+
+
+def compare(configs, data=None, grid=None, **source):
+    """Configurations side by side, in this process: every config (path, TOML text or dict)
+    × every combination of ``grid`` (``{"registrar.voxel_size": [0.5, 1.0]}``) × every
+    ``data`` (a path or a list of paths; None: each config's own source), each run by
+    :func:`run`.
+
+    Returns one record per run: ``config``, ``data``, the grid values, ``verdict`` (``ok`` or
+    ``failed``), ``reason``, ``frames``, ``mean_cloud_points``, ``mean_odometry_ms``, and the
+    accuracy figures (``ate_rmse_m``, ``rpe_trans_rmse_m``, …) when there is ground truth.
+    """
+    import itertools
+
+    datas = [None] if data is None else ([data] if isinstance(data, (str, __import__("os").PathLike)) else list(data))
+    keys = list((grid or {}).keys())
+    records = []
+    for config in ([configs] if isinstance(configs, (str, dict, __import__("os").PathLike)) else configs):
+        table, folder = _config_table(config)
+        label = config if not isinstance(config, dict) else "dict"
+        for values in itertools.product(*[grid[k] for k in keys]) if keys else [()]:
+            run_config = table
+            for k, v in zip(keys, values):
+                run_config = _with_override(run_config, k, v)
+            if keys and not isinstance(config, dict):
+                # Relative paths of a file config resolve against its folder.
+                src = run_config.get("source", {})
+                if "path" in src and not __import__("os").path.isabs(src["path"]):
+                    run_config = _with_override(run_config, "source.path", str(folder / src["path"]))
+            for d in datas:
+                record = {"config": str(label), "data": None if d is None else str(d)}
+                record.update(dict(zip(keys, values)))
+                try:
+                    rows, summary = run(run_config if keys else config, d, **source)
+                    record.update(verdict="ok", reason="", frames=summary["frames"],
+                                  mean_cloud_points=summary["mean_cloud_points"],
+                                  mean_odometry_ms=summary["mean_odometry_ms"])
+                    record.update(summary["accuracy"] or {})
+                except KeyloError as e:
+                    record.update(verdict="failed", reason=str(e))
+                records.append(record)
+    return records
+
+
 __all__ = [
     "ConfigError",
     "DataError",
@@ -132,6 +187,7 @@ __all__ = [
     "Reader",
     "StageError",
     "__version__",
+    "compare",
     "evaluate",
     "keypoints",
     "open",
