@@ -33,9 +33,14 @@ pub fn register_detector(name: &str, obj: Bound<'_, PyAny>) -> PyResult<()> {
             "register_detector: name `{name}` must be non-empty, without spaces or `:`"
         )));
     }
-    if !obj.hasattr("detect")? && !obj.hasattr("describe")? {
+    let any = ["detect", "describe", "downsample"]
+        .iter()
+        .map(|a| obj.hasattr(*a))
+        .collect::<PyResult<Vec<bool>>>()?;
+    if !any.contains(&true) {
         return Err(PluginError::new_err(format!(
-            "register_detector(`{name}`): the object has neither `detect` nor `describe`"
+            "register_detector(`{name}`): the object has neither `detect` nor `describe` \
+             (nor `downsample`)"
         )));
     }
     registered()?.insert(name.to_string(), obj.unbind());
@@ -62,6 +67,11 @@ pub fn registry(py: Python<'_>) -> PyResult<Registry> {
         if obj.hasattr("describe")? {
             registry
                 .descriptors
+                .add_factory(&kind, Box::new(PyFactory::new(name, obj.clone().unbind())));
+        }
+        if obj.hasattr("downsample")? {
+            registry
+                .downsamplers
                 .add_factory(&kind, Box::new(PyFactory::new(name, obj.clone().unbind())));
         }
     }
@@ -141,6 +151,16 @@ impl From<PyBackend> for Box<dyn Descriptor> {
 impl PyBackend {
     fn error(&self, stage: &str, message: impl std::fmt::Display) -> CoreError {
         CoreError::stage(stage, format!("Python backend `{}`: {message}", self.name))
+    }
+
+    /// [`Self::error`] for the other modules.
+    pub(crate) fn stage_error(&self, stage: &str, message: String) -> CoreError {
+        self.error(stage, message)
+    }
+
+    /// The Python object.
+    pub(crate) fn object<'py>(&self, py: Python<'py>) -> &Bound<'py, PyAny> {
+        self.obj.bind(py)
     }
 
     /// The image as a uint8 array (H×W, or H×W×C), one copy of its rows.

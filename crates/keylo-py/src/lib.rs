@@ -4,6 +4,7 @@
 mod arrays;
 mod config;
 mod detectors;
+mod downsampler;
 mod errors;
 mod eval;
 mod frames;

@@ -134,3 +134,32 @@ def test_the_onnx_example_matches_keylos_superpoint():
             np.testing.assert_allclose(a["descriptors"], b["descriptors"], atol=1e-4)
             compared += len(a["xy"])
     assert compared > 100
+
+
+def test_a_python_downsampler_of_every_point_is_passthrough():
+    class Every:
+        def downsample(self, frame, keypoints):
+            return frame.points  # every point of an unorganised scan, in file order
+
+    keylo.register_downsampler("every", Every())
+    reader = keylo.open(kind="sim", scene="lab", frames=5, sensor="os1-64", columns=512)
+    frames = list(reader)
+    # Each frame's valid points pushed as an unorganised scan: the frame then has every point.
+    base = {"registrar": {"kind": "kiss-icp", "max_range": 30.0}}
+    ours = keylo.Odometry({**base, "downsampler": {"kind": "python:every"}})
+    theirs = keylo.Odometry({**base, "downsampler": {"kind": "passthrough"}})
+    for f in frames:
+        pts = f.xyz[f.valid].astype(np.float64)
+        a, b = ours.process(pts, stamp=f.timestamp), theirs.process(pts, stamp=f.timestamp)
+        assert a.cloud_points == b.cloud_points
+    np.testing.assert_array_equal(ours.trajectory, theirs.trajectory)
+    with pytest.raises(keylo.PluginError, match="no `downsample`"):
+        keylo.register_downsampler("x", object())
+
+    class Wrong:
+        def downsample(self, frame, keypoints):
+            return np.zeros((4, 2))
+
+    keylo.register_downsampler("wrong", Wrong())
+    with pytest.raises(keylo.StageError, match=r"frame 0: Python backend `wrong`: downsample returned a 4×2 array"):
+        keylo.Odometry({**base, "downsampler": {"kind": "python:wrong"}}).process(np.ones((10, 3)))

@@ -22,6 +22,16 @@ from keylo._keylo import (
 
 
 
+def register_downsampler(name, obj):
+    """Makes ``kind = "python:NAME"`` a downsampler for every config built afterwards:
+    ``obj.downsample(frame, keypoints)`` gets the ``keylo.Frame`` and, per image, a dict
+    (``image``, ``xy`` N×2, ``scale`` image pixel → grid) and returns the cloud to register,
+    N×3 (x, y, z, sensor frame) or N×4 (with each point's time relative to the frame)."""
+    if not hasattr(obj, "downsample"):
+        raise PluginError(f"register_downsampler(`{name}`): the object has no `downsample`")
+    register_detector(name, obj)
+
+
 def sim(scene="lab", frames=100, **keys):
     """Simulated frames and their ground truth: ``(frames, stamps, poses)``.
 
@@ -192,6 +202,7 @@ __all__ = [
     "keypoints",
     "open",
     "register_detector",
+    "register_downsampler",
     "run",
     "sim",
 ]
