@@ -66,7 +66,7 @@ impl Downsampler for PyBackend {
             let np = py.import("numpy").map_err(|e| fail(e.to_string()))?;
             let arr: PyReadonlyArray2<f64> = np
                 .call_method1("asarray", (&out, "float64"))
-                .and_then(|a| a.extract::<PyReadonlyArray2<f64>>().map_err(PyErr::from))
+                .and_then(|a| a.extract::<PyReadonlyArray2<f64>>())
                 .map_err(|_| fail("downsample returned something that is not an N×3 or N×4 array (x, y, z[, time])".into()))?;
             let shape = arr.shape();
             if shape[1] != 3 && shape[1] != 4 {
