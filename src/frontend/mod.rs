@@ -71,8 +71,6 @@ pub use output::{DescriptorRow, FrameOutput, KeypointView};
 pub struct Frontend {
     odometry: Odometry,
     projector: Projector,
-    /// The projection grid's beams, given to frames pushed without their own.
-    beams: Arc<BeamGeometry>,
     frames: u64,
     last: Option<FrameOutput>,
 }
@@ -104,11 +102,9 @@ impl Frontend {
         let mut projector =
             Projector::from_config(projection, Sensor::Generic).map_err(Error::Projection)?;
         projector.set_grid_needed(odometry.needs_grid());
-        let beams = projector.beams().clone();
         Ok(Self {
             odometry,
             projector,
-            beams,
             frames: 0,
             last: None,
         })
@@ -166,7 +162,7 @@ impl Frontend {
     /// The beam geometry of the projection grid (for organised frames you build yourself
     /// on that grid).
     pub fn beams(&self) -> &Arc<BeamGeometry> {
-        &self.beams
+        self.projector.beams()
     }
 
     fn process(&mut self, frame: &LidarFrame) -> Result<&FrameOutput, Error> {

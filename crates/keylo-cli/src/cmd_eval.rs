@@ -12,10 +12,10 @@ use crate::trajectories;
 
 pub fn run(args: EvalArgs) -> Result<ExitCode> {
     let delta = parse_delta(&args)?;
-    let mut est =
-        trajectories::read(&args.est).with_context(|| format!("--est {}", args.est.display()))?;
-    let mut gt =
-        trajectories::read(&args.gt).with_context(|| format!("--gt {}", args.gt.display()))?;
+    let mut est = trajectories::Labelled::read(&args.est)
+        .with_context(|| format!("--est {}", args.est.display()))?;
+    let mut gt = trajectories::Labelled::read(&args.gt)
+        .with_context(|| format!("--gt {}", args.gt.display()))?;
     trajectories::reconcile(&mut est, &mut gt)?;
     let (est, gt) = (est.trajectory, gt.trajectory);
     let opts = EvalOptions {

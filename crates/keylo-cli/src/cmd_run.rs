@@ -28,7 +28,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     // A ground-truth file named by the user must be readable before any work starts.
     let gt_given = match ground_truth_file(&args, &config) {
         Some(path) => Some(
-            trajectories::read(&path)
+            trajectories::Labelled::read(&path)
                 .with_context(|| format!("ground truth {}", path.display()))?,
         ),
         None => None,
@@ -85,7 +85,10 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     summary.degeneracy = degeneracy_out::summarise(&outcome.degeneracy);
     let gt = gt_given.or_else(|| {
         let t = pipeline.source.ground_truth()?;
-        Some(trajectories::stamped(t, "the source's ground truth"))
+        Some(trajectories::Labelled::stamped(
+            t,
+            "the source's ground truth",
+        ))
     });
     add_accuracy(&mut summary, &outcome.trajectory, gt);
     // summary.json comes last: `keylo compare` takes it as the mark of a finished run.
@@ -314,7 +317,7 @@ fn ground_truth_file(args: &RunArgs, config: &PipelineConfig) -> Option<PathBuf>
 
 fn add_accuracy(summary: &mut Summary, est: &Trajectory, gt: Option<trajectories::Labelled>) {
     let Some(mut gt) = gt else { return };
-    let mut ours = trajectories::stamped(est.clone(), "the estimated trajectory");
+    let mut ours = trajectories::Labelled::stamped(est.clone(), "the estimated trajectory");
     let result = trajectories::reconcile(&mut ours, &mut gt).and_then(|()| {
         let opts = keylo::eval::EvalOptions {
             reference_label: gt.label.clone(),

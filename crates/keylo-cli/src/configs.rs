@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use keylo::config::{PipelineConfig, RawConfig};
 use keylo::Registry;
 
@@ -43,17 +43,10 @@ pub fn load(
 }
 
 fn apply_data(registry: &Registry, raw: &mut RawConfig, data: &Path) -> Result<()> {
-    if !data.exists() {
-        bail!("--data {}: no such file or directory", data.display());
-    }
-    let kind = registry.detect_source(data).with_context(|| {
-        format!(
-            "--data {}: no source recognises this data (readable kinds: {})",
-            data.display(),
-            registry.probed_kinds().join(", ")
-        )
-    })?;
-    let path = std::path::absolute(data).unwrap_or_else(|_| data.to_path_buf());
+    let (kind, path) = registry
+        .source_for_data(data)
+        .map_err(|e| anyhow::anyhow!("--data {e}"))?;
+    let kind = kind.as_str();
     // Same kind as the config's source: keep its other parameters (start, max_frames, …).
     let mut table = match raw.table.get("source").and_then(toml::Value::as_table) {
         Some(t) if t.get("kind").and_then(toml::Value::as_str) == Some(kind) => t.clone(),

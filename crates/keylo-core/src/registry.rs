@@ -186,6 +186,26 @@ impl Registry {
             .map(|(k, _)| k.as_str())
     }
 
+    /// The source kind that reads the data at `path` (as `keylo run --data` picks it) and the
+    /// path made absolute; an input error when the path is missing or no probe recognises it
+    /// (listing the kinds that have one).
+    pub fn source_for_data(&self, path: &Path) -> Result<(String, PathBuf), CoreError> {
+        if !path.exists() {
+            return Err(CoreError::input(path, "no such file or directory"));
+        }
+        let kind = self.detect_source(path).ok_or_else(|| {
+            CoreError::input(
+                path,
+                format!(
+                    "no source recognises this data (readable kinds: {})",
+                    self.probed_kinds().join(", ")
+                ),
+            )
+        })?;
+        let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+        Ok((kind.to_string(), absolute))
+    }
+
     /// Source kinds that have a probe (for error messages).
     pub fn probed_kinds(&self) -> Vec<&str> {
         self.probes.iter().map(|(k, _)| k.as_str()).collect()

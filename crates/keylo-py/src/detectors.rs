@@ -149,13 +149,9 @@ impl From<PyBackend> for Box<dyn Descriptor> {
 }
 
 impl PyBackend {
-    fn error(&self, stage: &str, message: impl std::fmt::Display) -> CoreError {
+    /// A stage error naming the backend.
+    pub(crate) fn error(&self, stage: &str, message: impl std::fmt::Display) -> CoreError {
         CoreError::stage(stage, format!("Python backend `{}`: {message}", self.name))
-    }
-
-    /// [`Self::error`] for the other modules.
-    pub(crate) fn stage_error(&self, stage: &str, message: String) -> CoreError {
-        self.error(stage, message)
     }
 
     /// The Python object.

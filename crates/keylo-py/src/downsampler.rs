@@ -24,7 +24,7 @@ impl Downsampler for PyBackend {
         features: &FrameFeatures,
     ) -> Result<PointCloud, CoreError> {
         Python::attach(|py| {
-            let fail = |m: String| self.stage_error("downsampler", m);
+            let fail = |m: String| self.error("downsampler", m);
             // The frame as keylo.Frame (a copy: the object may outlive the call).
             let f = Py::new(
                 py,
@@ -76,7 +76,7 @@ impl Downsampler for PyBackend {
                 )));
             }
             let a = arr.as_array();
-            let mut cloud = PointCloud {
+            let cloud = PointCloud {
                 timestamp: frame.timestamp,
                 points: (0..shape[0])
                     .map(|i| nalgebra::Point3::new(a[(i, 0)], a[(i, 1)], a[(i, 2)]))
@@ -93,7 +93,6 @@ impl Downsampler for PyBackend {
                     "point {i} of the returned cloud is not finite"
                 )));
             }
-            cloud.points.shrink_to_fit();
             Ok(cloud)
         })
     }

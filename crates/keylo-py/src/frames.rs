@@ -211,36 +211,24 @@ pub fn open(
         None => toml::Table::new(),
     };
     let registry = keylo::registry();
-    let kind = match (kind, &path) {
-        (Some(k), _) => k,
-        (None, Some(p)) => {
-            if !p.exists() {
-                return Err(DataError::new_err(format!(
-                    "{}: no such file or directory",
-                    p.display()
-                )));
+    match (kind, &path) {
+        (Some(k), p) => {
+            table.insert("kind".into(), k.into());
+            if let Some(p) = p {
+                let abs = std::path::absolute(p).unwrap_or_else(|_| p.clone());
+                table.insert("path".into(), abs.display().to_string().into());
             }
-            registry
-                .detect_source(p)
-                .ok_or_else(|| {
-                    DataError::new_err(format!(
-                        "{}: no source recognises this data (readable kinds: {})",
-                        p.display(),
-                        registry.probed_kinds().join(", ")
-                    ))
-                })?
-                .to_string()
+        }
+        (None, Some(p)) => {
+            let (k, abs) = registry.source_for_data(p).map_err(core)?;
+            table.insert("kind".into(), k.into());
+            table.insert("path".into(), abs.display().to_string().into());
         }
         (None, None) => {
             return Err(DataError::new_err(
                 "open: give a path to read, or kind= (e.g. kind=\"sim\")",
             ))
         }
-    };
-    table.insert("kind".into(), kind.into());
-    if let Some(p) = &path {
-        let abs = std::path::absolute(p).unwrap_or_else(|_| p.clone());
-        table.insert("path".into(), abs.display().to_string().into());
     }
     let mut raw = RawConfig::builtin();
     raw.origin = "keylo.open".into();

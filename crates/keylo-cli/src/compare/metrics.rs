@@ -110,8 +110,11 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
         fill_from_summary(s, &mut row);
     }
     read_frames(&plan.dir.join("frames.csv"), &mut series);
-    let mut est = trajectories::read(&plan.dir.join("trajectory.tum")).ok();
-    let mut gt = plan.gt.as_ref().and_then(|p| trajectories::read(p).ok());
+    let mut est = trajectories::Labelled::read(&plan.dir.join("trajectory.tum")).ok();
+    let mut gt = plan
+        .gt
+        .as_ref()
+        .and_then(|p| trajectories::Labelled::read(p).ok());
     if let (Some(e), Some(g)) = (est.as_mut(), gt.as_mut()) {
         // A KITTI ground truth has no stamps: pair it one for one, as `keylo run` does.
         if trajectories::reconcile(e, g).is_ok() {

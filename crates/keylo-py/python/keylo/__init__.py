@@ -4,6 +4,14 @@ The pipeline of a keylo config fed frame by frame (``Odometry``), the frames of 
 keylo reads as numpy arrays (``open``), and keylo's exceptions. See docs/python.md.
 """
 
+import copy
+import itertools
+import os
+import pathlib
+import tomllib
+
+import numpy as np
+
 from keylo._keylo import (
     ConfigError,
     DataError,
@@ -49,10 +57,6 @@ from keylo import keypoints  # noqa: E402  (keylo.keypoints.evaluate)
 
 def _config_table(config):
     """The config as a dict (for its ``[source]``), and its folder for relative paths."""
-    import os
-    import pathlib
-    import tomllib
-
     if config is None:
         return {}, pathlib.Path(".")
     if isinstance(config, dict):
@@ -79,8 +83,6 @@ def run(config=None, data=None, gt=None, **source):
     (N×4×4), ``stamps``, ``accuracy`` (``keylo.evaluate``'s figures, or None) and
     ``interrupted`` (Ctrl-C stops the run; the frames done are kept).
     """
-    import numpy as np
-
     table, folder = _config_table(config)
     if data is not None:
         reader = open(data, **source)
@@ -89,7 +91,7 @@ def run(config=None, data=None, gt=None, **source):
         src.pop("projection", None)
         kind = src.pop("kind", "sim")
         path = src.pop("path", None)
-        if path is not None and not __import__("os").path.isabs(path):
+        if path is not None and not os.path.isabs(path):
             path = folder / path
         reader = open(path, kind=kind, **src, **source)
     odometry = Odometry(config)
@@ -133,8 +135,6 @@ def run(config=None, data=None, gt=None, **source):
 
 def _with_override(table, key, value):
     """A copy of config ``table`` with dotted ``key`` set to ``value``."""
-    import copy
-
     out = copy.deepcopy(table)
     node = out
     *path, last = key.split(".")
@@ -154,12 +154,15 @@ def compare(configs, data=None, grid=None, **source):
     ``failed``), ``reason``, ``frames``, ``mean_cloud_points``, ``mean_odometry_ms``, and the
     accuracy figures (``ate_rmse_m``, ``rpe_trans_rmse_m``, …) when there is ground truth.
     """
-    import itertools
-
-    datas = [None] if data is None else ([data] if isinstance(data, (str, __import__("os").PathLike)) else list(data))
+    if data is None or isinstance(data, (str, os.PathLike)):
+        datas = [data]
+    else:
+        datas = list(data)
     keys = list((grid or {}).keys())
     records = []
-    for config in ([configs] if isinstance(configs, (str, dict, __import__("os").PathLike)) else configs):
+    if isinstance(configs, (str, dict, os.PathLike)):
+        configs = [configs]
+    for config in configs:
         table, folder = _config_table(config)
         label = config if not isinstance(config, dict) else "dict"
         for values in itertools.product(*[grid[k] for k in keys]) if keys else [()]:
@@ -169,7 +172,7 @@ def compare(configs, data=None, grid=None, **source):
             if keys and not isinstance(config, dict):
                 # Relative paths of a file config resolve against its folder.
                 src = run_config.get("source", {})
-                if "path" in src and not __import__("os").path.isabs(src["path"]):
+                if "path" in src and not os.path.isabs(src["path"]):
                     run_config = _with_override(run_config, "source.path", str(folder / src["path"]))
             for d in datas:
                 record = {"config": str(label), "data": None if d is None else str(d)}
