@@ -6,6 +6,7 @@
 //! * [`align`]: Umeyama SE(3)/Sim(3) alignment.
 //! * [`ape`]: absolute pose error (`evo_ape -a`), [`rpe`]: relative pose error (`evo_rpe`).
 //! * [`drift`]: KITTI-style drift over path segments.
+//! * [`divergence`]: whether a run diverged (`keylo compare`'s verdict).
 //! * [`evaluate`]: all of the above in one call, serialisable for `summary.json`.
 //!
 //! Parity with evo 1.38.1 is checked against committed fixtures in `tests/fixtures/evo/`.
@@ -16,6 +17,7 @@ pub mod align;
 pub mod align_roll;
 pub mod ape;
 pub mod associate;
+pub mod divergence;
 pub mod drift;
 mod error;
 mod evaluate;

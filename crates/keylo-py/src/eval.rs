@@ -15,7 +15,7 @@ use crate::errors::{DataError, KeyloError};
 
 /// A trajectory argument: a TUM/KITTI file, or an N×4×4 array with `stamps` (None: the
 /// pose indices, paired one for one with the other trajectory).
-fn trajectory_of(
+pub fn trajectory_of(
     obj: &Bound<'_, PyAny>,
     stamps: Option<&Bound<'_, PyAny>>,
     what: &str,
@@ -61,6 +61,25 @@ fn trajectory_of(
     })
 }
 
+/// The estimate and ground truth arguments, read and given comparable stamps as `keylo eval`
+/// does (a trajectory without stamps is paired one for one with the other).
+pub fn paired(
+    est: &Bound<'_, PyAny>,
+    est_stamps: Option<&Bound<'_, PyAny>>,
+    gt: &Bound<'_, PyAny>,
+    gt_stamps: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(Labelled, Labelled)> {
+    let mut e = trajectory_of(est, est_stamps, "est")?;
+    let mut g = trajectory_of(gt, gt_stamps, "gt")?;
+    if e.format == Format::Kitti && g.format == Format::Kitti {
+        // Neither has stamps: both count poses.
+        e.trajectory.stamps = (0..e.trajectory.len()).map(|i| i as f64).collect();
+        g.trajectory.stamps = (0..g.trajectory.len()).map(|i| i as f64).collect();
+    }
+    reconcile(&mut e, &mut g).map_err(|err| DataError::new_err(err.to_string()))?;
+    Ok((e, g))
+}
+
 /// `keylo.evaluate(est, gt, est_stamps=None, gt_stamps=None, align="se3", t_max_diff=0.01,
 /// t_offset=0.0, rpe_delta=1)`: the figures `keylo eval` prints, as a dict (`ate_rmse_m`,
 /// `rpe_trans_rmse_m`, `drift_pct`, …). `est`/`gt` are TUM/KITTI files or N×4×4 arrays.
@@ -93,14 +112,7 @@ pub fn evaluate<'py>(
             "rpe_delta = 0: expected 1 or more frames",
         ));
     }
-    let mut e = trajectory_of(est, est_stamps, "est")?;
-    let mut g = trajectory_of(gt, gt_stamps, "gt")?;
-    if e.format == Format::Kitti && g.format == Format::Kitti {
-        // Neither has stamps: both count poses.
-        e.trajectory.stamps = (0..e.trajectory.len()).map(|i| i as f64).collect();
-        g.trajectory.stamps = (0..g.trajectory.len()).map(|i| i as f64).collect();
-    }
-    reconcile(&mut e, &mut g).map_err(|err| DataError::new_err(err.to_string()))?;
+    let (e, g) = paired(est, est_stamps, gt, gt_stamps)?;
     let opts = EvalOptions {
         associate: AssociateOptions {
             max_diff: t_max_diff,

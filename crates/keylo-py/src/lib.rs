@@ -11,6 +11,7 @@ mod frames;
 mod keypoints;
 mod odometry;
 mod result;
+mod verdict;
 
 use pyo3::prelude::*;
 
@@ -31,6 +32,7 @@ fn _keylo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(frames::open, m)?)?;
     m.add_function(wrap_pyfunction!(detectors::register_detector, m)?)?;
     m.add_function(wrap_pyfunction!(eval::evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(verdict::judge, m)?)?;
     m.add_function(wrap_pyfunction!(keypoints::evaluate_keypoints, m)?)?;
     Ok(())
 }

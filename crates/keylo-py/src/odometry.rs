@@ -15,6 +15,8 @@ use crate::result::FrameResult;
 
 struct State {
     frontend: Frontend,
+    /// The backend of each stage, `(section, kind)`, defaults filled in.
+    kinds: Vec<(String, String)>,
     stamps: Vec<f64>,
     poses: Vec<Pose>,
 }
@@ -68,11 +70,25 @@ impl Odometry {
     #[pyo3(signature = (config=None))]
     fn new(py: Python<'_>, config: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
         let raw = raw_config(config)?;
+        let kinds = keylo::config::STAGE_DEFAULT_KINDS
+            .iter()
+            .filter(|(section, _)| *section != "source")
+            .map(|(section, default)| {
+                let kind = raw
+                    .table
+                    .get(*section)
+                    .and_then(|s| s.get("kind"))
+                    .and_then(|k| k.as_str())
+                    .unwrap_or(default);
+                (section.to_string(), kind.to_string())
+            })
+            .collect();
         let registry = crate::detectors::registry(py)?;
         let frontend = Frontend::from_raw(raw, registry).map_err(frontend)?;
         Ok(Self {
             state: Mutex::new(State {
                 frontend,
+                kinds,
                 stamps: Vec::new(),
                 poses: Vec::new(),
             }),
@@ -113,6 +129,13 @@ impl Odometry {
         let mut state = self.state()?;
         let f = &frame.inner;
         step(py, &mut state, move |fe| fe.push_frame(f).cloned())
+    }
+
+    /// The backend of every stage, `{"registrar": "kiss-icp", "downsampler": …}`, the
+    /// defaults filled in for sections the config leaves out.
+    #[getter]
+    fn kinds(&self) -> PyResult<std::collections::BTreeMap<String, String>> {
+        Ok(self.state()?.kinds.iter().cloned().collect())
     }
 
     /// Frames registered since the start or the last `reset`.

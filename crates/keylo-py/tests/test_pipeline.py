@@ -173,18 +173,3 @@ def test_ctrl_c_stops_a_long_run_and_keeps_the_frames_done(tmp_path):
     interrupted, frames, poses = out.split()
     assert p.returncode == 0
     assert interrupted == "True" and int(frames) == int(poses) > 0
-
-
-def test_compare_runs_every_config_and_grid_value():
-    base = {"source": {"kind": "sim", "scene": "lab", "frames": 6, "sensor": "os1-64", "columns": 512},
-            "registrar": {"kind": "kiss-icp", "max_range": 30.0}}
-    voxel = {**base, "downsampler": {"kind": "voxel", "voxel_size": 0.2}}
-    records = keylo.compare([base, voxel], grid={"registrar.voxel_size": [0.25, 0.5]})
-    assert len(records) == 4
-    assert all(r["verdict"] == "ok" and r["frames"] == 6 for r in records), records
-    assert [r["registrar.voxel_size"] for r in records] == [0.25, 0.5, 0.25, 0.5]
-    assert records[2]["mean_cloud_points"] < records[0]["mean_cloud_points"]
-    assert all(r["ate_rmse_m"] < 0.2 for r in records)
-    # A run that fails is a record saying why, not an exception.
-    bad = keylo.compare([{**base, "registrar": {"kind": "nope"}}])
-    assert bad[0]["verdict"] == "failed" and "nope" in bad[0]["reason"]

@@ -4,8 +4,7 @@
 
 use std::path::Path;
 
-use keylo::eval::ape::{ape, ApeOptions};
-use keylo::eval::associate::{associate_labeled, AssociateOptions};
+use keylo::eval::divergence::{aligned_ape, judge};
 use keylo::Trajectory;
 use serde::Serialize;
 use serde_json::Value;
@@ -14,30 +13,20 @@ use super::schedule::{Outcome, Planned};
 use crate::trajectories;
 
 /// When a run counts as diverged (printed under every table).
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct Criterion {
-    /// Largest aligned translation error (APE, metres) a run may reach.
-    pub max_ape_m: f64,
-    /// Largest translation between consecutive estimated poses, metres.
-    pub max_step_m: f64,
-    /// Largest stamp difference when pairing estimate and ground truth, seconds (evo
-    /// `--t_max_diff`).
-    pub t_max_diff_s: f64,
-}
+pub type Criterion = keylo::eval::divergence::Criterion;
 
-impl Criterion {
-    pub fn describe(&self) -> String {
-        format!(
-            "a run is **diverged** when its largest aligned translation error (APE, SE(3) \
-             Umeyama alignment as `evo_ape -a`) exceeds {} m (`--diverge-ape`), when one step \
-             between consecutive estimated poses exceeds {} m (`--diverge-step`), or when a \
-             pose is not finite; **failed** when `keylo run` stopped before the end of the \
-             data (its figures cover the frames before the failure); accuracy of a diverged \
-             or failed run is shown as N/A in the paper-shaped tables; APE is over the poses \
-             paired with ground truth within {} s (`--t-max-diff`, evo's `--t_max_diff`)",
-            self.max_ape_m, self.max_step_m, self.t_max_diff_s
-        )
-    }
+/// The criterion in words, with the flags that set it.
+pub fn describe(c: &Criterion) -> String {
+    format!(
+        "a run is **diverged** when its largest aligned translation error (APE, SE(3) \
+         Umeyama alignment as `evo_ape -a`) exceeds {} m (`--diverge-ape`), when one step \
+         between consecutive estimated poses exceeds {} m (`--diverge-step`), or when a \
+         pose is not finite; **failed** when `keylo run` stopped before the end of the \
+         data (its figures cover the frames before the failure); accuracy of a diverged \
+         or failed run is shown as N/A in the paper-shaped tables; APE is over the poses \
+         paired with ground truth within {} s (`--t-max-diff`, evo's `--t_max_diff`)",
+        c.max_ape_m, c.max_step_m, c.t_max_diff_s
+    )
 }
 
 /// One run's figures. Field order is the column order of the CSV and Markdown tables.
@@ -177,33 +166,8 @@ fn divergence(
     let Some(est) = est else {
         return ("failed", "no trajectory.tum".into());
     };
-    let finite = est.poses.iter().all(|p| {
-        p.translation.vector.iter().all(|v| v.is_finite())
-            && p.rotation.coords.iter().all(|v| v.is_finite())
-    });
-    if !finite {
-        return ("diverged", "a pose is not finite".into());
-    }
-    let step = est
-        .poses
-        .windows(2)
-        .map(|w| (w[1].translation.vector - w[0].translation.vector).norm())
-        .fold(0.0, f64::max);
-    if step > crit.max_step_m {
-        return (
-            "diverged",
-            format!("a step of {step:.2} m > {} m", crit.max_step_m),
-        );
-    }
-    match row.trans_max_m {
-        Some(m) if m > crit.max_ape_m => (
-            "diverged",
-            format!("max APE {m:.2} m > {} m", crit.max_ape_m),
-        ),
-        Some(m) => ("ok", format!("max APE {m:.3} m, largest step {step:.2} m")),
-        None if has_gt => ("ok", "no APE (trajectory not associable)".into()),
-        None => ("ok", "no ground truth: step check only".into()),
-    }
+    let (verdict, reason) = judge(est, row.trans_max_m, has_gt, crit);
+    (verdict.as_str(), reason)
 }
 
 fn read_json(path: &Path) -> Option<Value> {
@@ -250,14 +214,7 @@ fn fill_ape(
     row: &mut Row,
     series: &mut Series,
 ) {
-    let opts = AssociateOptions {
-        max_diff: t_max_diff,
-        ..AssociateOptions::default()
-    };
-    let Ok(pairs) = associate_labeled(gt, "ground truth", est, "estimate", &opts) else {
-        return;
-    };
-    let Ok(result) = ape(&pairs, &ApeOptions::default()) else {
+    let Ok((pairs, result)) = aligned_ape(est, gt, t_max_diff) else {
         return;
     };
     row.associated_poses = Some(pairs.len());

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use serde_json::Value;
 
-use super::metrics::{Criterion, Row};
+use super::metrics::{describe, Criterion, Row};
 
 /// Columns of the full table: (JSON/CSV field, Markdown header, decimals).
 const COLUMNS: [(&str, &str, usize); 23] = [
@@ -76,7 +76,7 @@ pub fn json(rows: &[Row], crit: &Criterion) -> String {
     let doc = serde_json::json!({
         "criterion": { "max_ape_m": crit.max_ape_m, "max_step_m": crit.max_step_m,
                        "t_max_diff_s": crit.t_max_diff_s,
-                       "text": crit.describe() },
+                       "text": describe(crit) },
         "runs": rows,
     });
     serde_json::to_string_pretty(&doc).unwrap_or_default()
@@ -99,7 +99,7 @@ pub fn markdown(rows: &[Row], crit: &Criterion) -> String {
     }
     md.push_str("\n## Every run\n\n");
     md.push_str(&full_table(rows));
-    let _ = write!(md, "\nDivergence criterion: {}.\n", crit.describe());
+    let _ = write!(md, "\nDivergence criterion: {}.\n", describe(crit));
     md.push_str(
         "Errors are after SE(3) Umeyama alignment of the positions (as `evo_ape -a`); on a \
          nearly straight path the alignment's rotation about the path axis is taken from the \

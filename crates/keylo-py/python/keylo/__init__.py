@@ -24,6 +24,7 @@ from keylo._keylo import (
     StageError,
     __version__,
     evaluate,
+    judge,
     open,
     register_detector,
 )
@@ -74,18 +75,46 @@ def run(config=None, data=None, gt=None, **source):
 
     ``config`` is what ``Odometry`` takes. The frames come from ``data`` (any path
     ``keylo.open`` reads, with ``source`` keys) or else from the config's ``[source]``
-    (the simulator by default). ``gt`` is a TUM/KITTI file; without it, the source's own
-    ground truth is used when it has one.
+    (the simulator by default). ``gt`` is a TUM/KITTI file; without it, as for ``keylo
+    run``: ``[output] gt``, else a ``gt.tum`` beside the data, else the source's own ground
+    truth (the simulator's).
 
     Returns ``(records, summary)``: one dict per frame (``index``, ``stamp``, ``x``, ``y``,
     ``z``, point counts, ``iterations``, ``converged``, ``odometry_ms``), pandas-friendly, and
-    a dict with ``frames``, ``mean_cloud_points``, ``mean_odometry_ms``, ``trajectory``
-    (N×4×4), ``stamps``, ``accuracy`` (``keylo.evaluate``'s figures, or None) and
-    ``interrupted`` (Ctrl-C stops the run; the frames done are kept).
+    a dict with ``frames``, ``mean_cloud_points``, ``mean_registered_points``,
+    ``mean_odometry_ms``, ``odometry_hz``, ``trajectory`` (N×4×4), ``stamps``, ``ground_truth``
+    (``(stamps, poses)`` or a path, None without), ``accuracy`` (``keylo.evaluate``'s
+    figures, or None), ``kinds`` (each stage's backend) and ``interrupted`` (Ctrl-C stops
+    the run; the frames done are kept). An error in the data raises after the frames before
+    it were registered; ``compare`` keeps those.
     """
+    records, summary, error = _run(config, data, gt, source)
+    if error is not None:
+        raise error
+    return records, summary
+
+
+def _ground_truth(gt, table, folder, data, reader):
+    """The ground truth ``keylo run`` would use: ``gt``, else ``[output] gt``, else a
+    ``gt.tum`` beside the data, else the source's own (the simulator's): a path or
+    ``(stamps, poses)``, None without."""
+    if gt is not None:
+        return gt
+    if table.get("output", {}).get("gt"):
+        return folder / table["output"]["gt"]
+    if data is not None and (beside := pathlib.Path(data) / "gt.tum").is_file():
+        return beside
+    return reader.ground_truth()
+
+
+def _run(config, data, gt, source):
+    """``run``'s work: ``(records, summary, error)``, where ``error`` is the ``KeyloError``
+    that stopped the run after the frames in ``records`` (None when the data ran out). A
+    config that does not build raises."""
     table, folder = _config_table(config)
+    odometry = Odometry(config)
     if data is not None:
-        reader = open(data, **source)
+        reader, path = open(data, **source), data
     else:
         src = dict(table.get("source", {}))
         src.pop("projection", None)
@@ -94,13 +123,14 @@ def run(config=None, data=None, gt=None, **source):
         if path is not None and not os.path.isabs(path):
             path = folder / path
         reader = open(path, kind=kind, **src, **source)
-    odometry = Odometry(config)
-    results, interrupted = [], False
+    results, interrupted, error = [], False, None
     try:
         for frame in reader:
             results.append(odometry.process_frame(frame))
     except KeyboardInterrupt:
         interrupted = True
+    except KeyloError as e:
+        error = e
     # A Ctrl-C between a frame's registration and its append leaves it out of both.
     n = len(results)
     trajectory, stamps = odometry.trajectory[:n], odometry.stamps[:n]
@@ -114,23 +144,30 @@ def run(config=None, data=None, gt=None, **source):
             "iterations": r.iterations, "converged": r.converged,
             "odometry_ms": 1e3 * r.timings["total"],
         })
+    truth = _ground_truth(gt, table, folder, path, reader)
     accuracy = None
-    if records:
-        if gt is not None:
-            accuracy = evaluate(trajectory, gt, est_stamps=stamps)
-        elif (truth := reader.ground_truth()) is not None:
+    if records and truth is not None:
+        if isinstance(truth, tuple):
             gt_stamps, poses = truth
             accuracy = evaluate(trajectory, poses, est_stamps=stamps, gt_stamps=gt_stamps)
+        else:
+            accuracy = evaluate(trajectory, truth, est_stamps=stamps)
+    mean = (lambda key: float(np.mean([r[key] for r in records]))) if records else (lambda key: 0.0)
+    seconds = sum(r["odometry_ms"] for r in records) * 1e-3
     summary = {
         "frames": len(records),
-        "mean_cloud_points": float(np.mean([r["cloud_points"] for r in records])) if records else 0.0,
-        "mean_odometry_ms": float(np.mean([r["odometry_ms"] for r in records])) if records else 0.0,
+        "mean_cloud_points": mean("cloud_points"),
+        "mean_registered_points": mean("registered_points"),
+        "mean_odometry_ms": mean("odometry_ms"),
+        "odometry_hz": len(records) / seconds if seconds > 0 else 0.0,
         "trajectory": trajectory,
         "stamps": stamps,
+        "ground_truth": truth,
         "accuracy": accuracy,
+        "kinds": odometry.kinds,
         "interrupted": interrupted,
     }
-    return records, summary
+    return records, summary, error
 
 
 def _with_override(table, key, value):
@@ -144,27 +181,90 @@ def _with_override(table, key, value):
     return out
 
 
-def compare(configs, data=None, grid=None, **source):
-    """Configurations side by side, in this process: every config (path, TOML text or dict)
-    × every combination of ``grid`` (``{"registrar.voxel_size": [0.5, 1.0]}``) × every
-    ``data`` (a path or a list of paths; None: each config's own source), each run by
-    :func:`run`.
+def _label(config):
+    """A config's name in the tables: its file stem, else ``dict``, ``text`` or ``default``."""
+    if config is None:
+        return "default"
+    if isinstance(config, dict):
+        return "dict"
+    if isinstance(config, os.PathLike) or (isinstance(config, str) and "\n" not in config
+                                           and config.endswith(".toml")):
+        return pathlib.Path(config).stem
+    return "text"
 
-    Returns one record per run: ``config``, ``data``, the grid values, ``verdict`` (``ok`` or
-    ``failed``), ``reason``, ``frames``, ``mean_cloud_points``, ``mean_odometry_ms``, and the
-    accuracy figures (``ate_rmse_m``, ``rpe_trans_rmse_m``, …) when there is ground truth.
+
+#: The columns of ``compare``'s records, in ``keylo compare``'s order (compare.csv).
+COMPARE_COLUMNS = (
+    "data", "variant", "config", "registrar", "downsampler", "verdict", "reason", "frames",
+    "associated_poses", "trans_mean_m", "trans_rmse_m", "trans_max_m", "rot_mean_deg",
+    "rot_rmse_deg", "rpe_trans_m", "rpe_rot_deg", "cpu_percent", "peak_rss_mb",
+    "mean_points", "mean_registered_points", "odometry_hz", "rate_vs_raw",
+)
+
+
+def _compare_row(config, data, gt, source, criterion):
+    """One run of ``compare``: its figures and verdict (the columns of ``COMPARE_COLUMNS``)."""
+    row = dict.fromkeys(COMPARE_COLUMNS)
+    try:
+        records, summary, error = _run(config, data, gt, source)
+    except KeyloError as e:
+        row.update(verdict="failed", reason=str(e), frames=0)
+        return row
+    row.update(frames=summary["frames"], registrar=summary["kinds"]["registrar"],
+               downsampler=summary["kinds"]["downsampler"],
+               mean_points=summary["mean_cloud_points"],
+               mean_registered_points=summary["mean_registered_points"],
+               odometry_hz=summary["odometry_hz"])
+    accuracy = summary["accuracy"] or {}
+    row.update(rpe_trans_m=accuracy.get("rpe_trans_rmse_m"),
+               rpe_rot_deg=accuracy.get("rpe_rot_rmse_deg"))
+    truth = summary["ground_truth"]
+    if records:
+        if isinstance(truth, tuple):
+            figures = judge(summary["trajectory"], truth[1], est_stamps=summary["stamps"],
+                            gt_stamps=truth[0], **criterion)
+        else:
+            figures = judge(summary["trajectory"], truth, est_stamps=summary["stamps"],
+                            **criterion)
+        row.update(figures)
+    if error is not None:
+        row.update(verdict="failed", reason=f"stopped at frame {len(records)}: {error}")
+    elif summary["interrupted"]:
+        row.update(verdict="failed", reason=f"interrupted after {len(records)} frames")
+    elif not records:
+        row.update(verdict="failed", reason="no frame")
+    return row
+
+
+def compare(configs, data=None, grid=None, gt=None, max_ape=2.0, max_step=5.0,
+            t_max_diff=0.01, **source):
+    """Configurations side by side, in this process, judged as ``keylo compare`` judges
+    them: every config (path, TOML text or dict) × every combination of ``grid``
+    (``{"registrar.voxel_size": [0.5, 1.0]}``) × every ``data`` (a path or a list of paths;
+    None: each config's own source), each run by :func:`run`.
+
+    Returns one record per run with ``keylo compare``'s columns (``COMPARE_COLUMNS``:
+    ``data``, ``variant``, ``config``, stage kinds, ``verdict`` — ``ok``, ``diverged`` or
+    ``failed`` —, ``reason``, ``frames``, the aligned APE figures ``trans_*_m``/``rot_*_deg``
+    over poses paired within ``t_max_diff`` s, RPE, points per frame, ``odometry_hz`` and
+    ``rate_vs_raw``) plus one column per grid key. A run is diverged when a pose is not
+    finite, a step between poses exceeds ``max_step`` m or the APE exceeds ``max_ape`` m;
+    failed when it stopped before the end of the data (its figures cover the frames before).
+    ``cpu_percent`` and ``peak_rss_mb`` are None: runs share this process. ``gt`` is one
+    TUM/KITTI file for every data; without it each source's own ground truth is used.
     """
     if data is None or isinstance(data, (str, os.PathLike)):
         datas = [data]
     else:
         datas = list(data)
     keys = list((grid or {}).keys())
-    records = []
-    if isinstance(configs, (str, dict, os.PathLike)):
+    criterion = {"max_ape": max_ape, "max_step": max_step, "t_max_diff": t_max_diff}
+    if isinstance(configs, (str, dict, os.PathLike)) or configs is None:
         configs = [configs]
+    records = []
     for config in configs:
         table, folder = _config_table(config)
-        label = config if not isinstance(config, dict) else "dict"
+        label = _label(config)
         for values in itertools.product(*[grid[k] for k in keys]) if keys else [()]:
             run_config = table
             for k, v in zip(keys, values):
@@ -174,19 +274,28 @@ def compare(configs, data=None, grid=None, **source):
                 src = run_config.get("source", {})
                 if "path" in src and not os.path.isabs(src["path"]):
                     run_config = _with_override(run_config, "source.path", str(folder / src["path"]))
+            point = " ".join(f"{k}={v}" for k, v in zip(keys, values))
+            variant = label if not point else point if len(configs) == 1 else f"{label} {point}"
             for d in datas:
-                record = {"config": str(label), "data": None if d is None else str(d)}
-                record.update(dict(zip(keys, values)))
-                try:
-                    rows, summary = run(run_config if keys else config, d, **source)
-                    record.update(verdict="ok", reason="", frames=summary["frames"],
-                                  mean_cloud_points=summary["mean_cloud_points"],
-                                  mean_odometry_ms=summary["mean_odometry_ms"])
-                    record.update(summary["accuracy"] or {})
-                except KeyloError as e:
-                    record.update(verdict="failed", reason=str(e))
-                records.append(record)
+                row = _compare_row(run_config if keys else config, d, gt, source, criterion)
+                row.update(data=pathlib.Path(d).stem if d is not None else label,
+                           variant=variant,
+                           config=str(config) if not isinstance(config, dict) else "dict")
+                row.update(dict(zip(keys, values)))
+                records.append(row)
+    _add_rate_ratios(records)
     return records
+
+
+def _add_rate_ratios(records):
+    """``rate_vs_raw``: each run's odometry rate over that of the ``passthrough`` run with
+    the same data and registrar, as ``keylo compare`` fills it."""
+    raw = {(r["data"], r["registrar"]): r["odometry_hz"] for r in records
+           if r["downsampler"] == "passthrough" and r["odometry_hz"]}
+    for r in records:
+        base = raw.get((r["data"], r["registrar"]))
+        if base and r["odometry_hz"] is not None:
+            r["rate_vs_raw"] = r["odometry_hz"] / max(base, 1e-12)
 
 
 __all__ = [
@@ -201,7 +310,9 @@ __all__ = [
     "StageError",
     "__version__",
     "compare",
+    "COMPARE_COLUMNS",
     "evaluate",
+    "judge",
     "keypoints",
     "open",
     "register_detector",

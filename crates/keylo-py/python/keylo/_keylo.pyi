@@ -108,6 +108,9 @@ class Odometry:
         """Registers an N×3 or N×4 (with intensity) scan."""
     def process_frame(self, frame: Frame) -> FrameResult: ...
     @property
+    def kinds(self) -> dict[str, str]:
+        """The backend of every stage, defaults filled in."""
+    @property
     def frames(self) -> int: ...
     @property
     def trajectory(self) -> npt.NDArray[np.float64]:
@@ -135,6 +138,17 @@ def evaluate(
     rpe_delta: int = 1,
 ) -> dict[str, Any]:
     """ATE/RPE/drift as `keylo eval` computes them; files (TUM/KITTI) or N×4×4 arrays."""
+
+def judge(
+    est: str | os.PathLike[str] | npt.ArrayLike,
+    gt: str | os.PathLike[str] | npt.ArrayLike | None = None,
+    est_stamps: npt.ArrayLike | None = None,
+    gt_stamps: npt.ArrayLike | None = None,
+    max_ape: float = 2.0,
+    max_step: float = 5.0,
+    t_max_diff: float = 0.01,
+) -> dict[str, Any]:
+    """`keylo compare`'s verdict (`ok`/`diverged`), its reason and the aligned-APE columns."""
 
 def evaluate_keypoints(
     images: Any, combos: str = "paper", spec: str | None = None, jobs: int = 1
