@@ -45,28 +45,38 @@ def extractor(name):
 
 
 def rotate_bound(img, deg):
+    """The authors' rotation: the canvas is OpenCV's RotatedRect(…).boundingRect2f() (corner
+    points in float32), the matrix shifted by half its growth, the size rounded."""
     h, w = img.shape
     m = cv2.getRotationMatrix2D((w / 2, h / 2), deg, 1.0)
-    cos, sin = abs(m[0, 0]), abs(m[0, 1])
-    nw, nh = int(h * sin + w * cos), int(h * cos + w * sin)
-    m[0, 2] += nw / 2 - w / 2
-    m[1, 2] += nh / 2 - h / 2
-    out = cv2.warpAffine(img, m, (nw, nh), flags=cv2.INTER_LINEAR,
-                         borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    ang = deg * np.pi / 180.0
+    b, a = np.float32(np.cos(ang)) * np.float32(0.5), np.float32(np.sin(ang)) * np.float32(0.5)
+    fw, fh = np.float32(w), np.float32(h)
+    p0 = (-a * fh - b * fw, b * fh - a * fw)
+    p1 = (a * fh - b * fw, -b * fh - a * fw)
+    xs = np.array([p0[0], p1[0], -p0[0], -p1[0]], np.float32)
+    ys = np.array([p0[1], p1[1], -p0[1], -p1[1]], np.float32)
+    bw, bh = np.float32(xs.max() - xs.min()), np.float32(ys.max() - ys.min())
+    m[0, 2] += (float(bw) - w) / 2.0
+    m[1, 2] += (float(bh) - h) / 2.0
+    out = cv2.warpAffine(img, m, (int(round(float(bw))), int(round(float(bh)))),
+                         flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
     return out, np.vstack([m, [0, 0, 1]])
 
 
 def repeat(kps, kps_t, hom):
+    """The authors' computeRobustness: positions mapped by perspectiveTransform (float32),
+    the float32 distance to the nearest transformed keypoint strictly below REPEAT_PX."""
     if not kps:
         return None
     if not kps_t:
         return 0.0
-    p = np.array([[k.pt[0], k.pt[1], 1.0] for k in kps]).T
-    q = hom @ p
-    q = (q[:2] / q[2]).T
-    t = np.array([k.pt for k in kps_t])
-    d2 = ((q[:, None, :] - t[None, :, :]) ** 2).sum(-1)
-    return float((d2.min(1) <= REPEAT_PX ** 2).sum()) / len(kps)
+    p = np.float32([k.pt for k in kps]).reshape(-1, 1, 2)
+    q = cv2.perspectiveTransform(p, hom).reshape(-1, 2)
+    t = np.float32([k.pt for k in kps_t])
+    d = q[:, None, :] - t[None, :, :]
+    dist = np.sqrt((d.astype(np.float64) ** 2).sum(-1)).astype(np.float32)
+    return float((dist.min(1) < np.float32(REPEAT_PX)).sum()) / len(kps)
 
 
 def robustness(det, img, kps):
@@ -92,7 +102,7 @@ def pair(prev, cur):
         return len(kp0) and 0, None, 0, None, 0, 0
     m = cv2.BFMatcher(norm(d0), crossCheck=True).match(d0, d1)
     m = sorted(m, key=lambda x: x.distance)
-    ratio = len(m) / len(kp0)
+    ratio = len(m) / len(kp1)  # the authors divide by the newer image's keypoints
     inliers, score = 0, None
     if len(m) >= 4:
         src = np.float32([kp0[x.queryIdx].pt for x in m])

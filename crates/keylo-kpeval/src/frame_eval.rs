@@ -111,7 +111,9 @@ fn pair(
     Ok(Pairing {
         match_ms,
         matches: n,
-        match_ratio: (!prev.0.is_empty()).then(|| n as f64 / prev.0.len() as f64),
+        // Over the current image's described keypoints, as the authors' code divides
+        // (`matches.size() / kPtsRef.size()`, the reference being the newer image).
+        match_ratio: (!cur.0.is_empty()).then(|| n as f64 / cur.0.len() as f64),
         inliers,
         match_score: (n >= 4).then(|| inliers as f64 / n as f64),
         knn_passed: passed.len(),

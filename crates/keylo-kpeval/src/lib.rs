@@ -22,6 +22,7 @@ mod frame_eval;
 mod params;
 mod plane;
 mod record;
+pub mod reference;
 mod repeat;
 mod runner;
 mod spec;

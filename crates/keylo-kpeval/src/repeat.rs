@@ -7,7 +7,11 @@ use keylo_core::Keypoint;
 use crate::transforms::Homography;
 
 /// Share of `original` keypoints whose position mapped by `h` has a keypoint of `transformed`
-/// within `radius` pixels (Euclidean, inclusive); `None` when `original` is empty.
+/// closer than `radius` pixels; `None` when `original` is empty. As the authors' code computes
+/// it: the mapped position rounded to `f32` (OpenCV's `perspectiveTransform` on `Point2f`),
+/// the distance of the `f32` difference, and strictly closer (a keypoint exactly `radius` away
+/// — common with integer corner positions under the identity and the ×2 scaling — is not
+/// found again).
 pub fn repeatability(
     original: &[Keypoint],
     transformed: &[Keypoint],
@@ -60,16 +64,23 @@ impl Grid {
             (x / self.cell).floor() as i64,
             (y / self.cell).floor() as i64,
         );
-        let r2 = radius * radius;
+        let (qx, qy) = (x as f32, y as f32);
         (cx - 1..=cx + 1).any(|i| {
             (cy - 1..=cy + 1).any(|j| {
                 self.cells.get(&(i, j)).is_some_and(|pts| {
                     pts.iter()
-                        .any(|(px, py)| (px - x).powi(2) + (py - y).powi(2) <= r2)
+                        .any(|&(px, py)| closer_than(qx - px as f32, qy - py as f32, radius))
                 })
             })
         })
     }
+}
+
+/// `cv::norm(Point2f(dx, dy)) < radius` as OpenCV evaluates it: the norm in `f64` of the `f32`
+/// difference, stored as `f32`.
+fn closer_than(dx: f32, dy: f32, radius: f64) -> bool {
+    let norm = (f64::from(dx).powi(2) + f64::from(dy).powi(2)).sqrt() as f32;
+    norm < radius as f32
 }
 
 #[cfg(test)]
@@ -90,9 +101,8 @@ mod tests {
             .iter()
             .filter(|k| {
                 let (x, y) = h.map(f64::from(k.x), f64::from(k.y));
-                transformed
-                    .iter()
-                    .any(|t| (f64::from(t.x) - x).powi(2) + (f64::from(t.y) - y).powi(2) <= r * r)
+                let (x, y) = (x as f32, y as f32);
+                transformed.iter().any(|t| closer_than(x - t.x, y - t.y, r))
             })
             .count();
         hit as f64 / original.len() as f64
@@ -106,6 +116,12 @@ mod tests {
         let transformed = [kp(15.0, 8.0), kp(57.0, 19.0), kp(95.0 + 4.1, 3.0)];
         let r = repeatability(&original, &transformed, &shift, 4.0).unwrap();
         assert_eq!(r, 0.5);
+        // Exactly 4 px away is not within 4 px (the authors' `min_dist < threshold`).
+        let at_radius = [kp(15.0 + 4.0, 8.0)];
+        assert_eq!(
+            repeatability(&original[..1], &at_radius, &shift, 4.0),
+            Some(0.0)
+        );
         assert_eq!(repeatability(&[], &transformed, &shift, 4.0), None);
         assert_eq!(repeatability(&original, &[], &shift, 4.0), Some(0.0));
     }

@@ -60,21 +60,22 @@ fn size(w: f64, h: f64) -> Size {
 
 /// `image` rotated by `degrees` (counter-clockwise, as OpenCV's `getRotationMatrix2D`) about
 /// its centre, on a canvas enlarged to the rotated bounding box (linear interpolation, black
-/// outside).
+/// outside). The box is OpenCV's `RotatedRect(…).boundingRect2f()`, computed in `f32` as
+/// OpenCV does: the authors shift the rotation by half its growth (a fraction of a pixel
+/// that moves every sample of the rotated image) and size the canvas by rounding it.
 pub fn rotate(image: &Image, degrees: f64) -> Result<Transformed, KpEvalError> {
     let (w, h) = (image.width as f64, image.height as f64);
     let (cx, cy) = (w / 2.0, h / 2.0);
     let (sin, cos) = degrees.to_radians().sin_cos();
-    let new_w = (h * sin.abs() + w * cos.abs()).floor();
-    let new_h = (h * cos.abs() + w * sin.abs()).floor();
-    // getRotationMatrix2D(centre, degrees, 1), then shifted so the centre lands mid-canvas.
+    let (box_w, box_h) = bounding_box_f32(image.width as f32, image.height as f32, degrees);
+    // getRotationMatrix2D(centre, degrees, 1), then shifted by half the box's growth.
     let m = [
         cos,
         sin,
-        (1.0 - cos) * cx - sin * cy + (new_w / 2.0 - cx),
+        (1.0 - cos) * cx - sin * cy + (f64::from(box_w) - w) / 2.0,
         -sin,
         cos,
-        sin * cx + (1.0 - cos) * cy + (new_h / 2.0 - cy),
+        sin * cx + (1.0 - cos) * cy + (f64::from(box_h) - h) / 2.0,
     ];
     let affine = Mat::from_slice_2d(&[&m[0..3], &m[3..6]]).map_err(cv("Mat::from_slice_2d"))?;
     let mut dst = Mat::default();
@@ -82,7 +83,7 @@ pub fn rotate(image: &Image, degrees: f64) -> Result<Transformed, KpEvalError> {
         &to_mat(image)?,
         &mut dst,
         &affine,
-        size(new_w, new_h),
+        size(f64::from(box_w), f64::from(box_h)),
         opencv::imgproc::INTER_LINEAR,
         BORDER_CONSTANT,
         opencv::core::Scalar::all(0.0),
@@ -92,6 +93,25 @@ pub fn rotate(image: &Image, degrees: f64) -> Result<Transformed, KpEvalError> {
         image: image_from(&dst, image)?,
         h: Homography([m[0], m[1], m[2], m[3], m[4], m[5], 0.0, 0.0, 1.0]),
     })
+}
+
+/// Width and height of the bounding box of a `w × h` rectangle rotated by `degrees`, as
+/// OpenCV's `RotatedRect::boundingRect2f` computes them (corner points in `f32`).
+fn bounding_box_f32(w: f32, h: f32, degrees: f64) -> (f32, f32) {
+    let angle = degrees * std::f64::consts::PI / 180.0;
+    let (b, a) = (angle.cos() as f32 * 0.5, angle.sin() as f32 * 0.5);
+    let corners = [
+        (-a * h - b * w, b * h - a * w),
+        (a * h - b * w, -b * h - a * w),
+    ];
+    // The other two corners are these mirrored through the centre (0, 0).
+    let xs = corners.iter().flat_map(|c| [c.0, -c.0]);
+    let ys = corners.iter().flat_map(|c| [c.1, -c.1]);
+    let span = |v: &mut dyn Iterator<Item = f32>| {
+        let (lo, hi) = v.fold((f32::MAX, f32::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
+        hi - lo
+    };
+    (span(&mut xs.clone()), span(&mut ys.clone()))
 }
 
 /// `image` resized by `factor` (linear), with the homography of `mode`.
@@ -189,8 +209,8 @@ mod tests {
     fn rotation_maps_a_dot_where_its_homography_says_on_an_enlarged_canvas() {
         let img = dot(100, 20, 80, 5);
         let t = rotate(&img, 45.0).unwrap();
-        // 100·cos45 + 20·sin45 = 84.85
-        assert_eq!((t.image.width, t.image.height), (84, 84));
+        // 100·cos45 + 20·sin45 = 84.85, rounded as OpenCV turns the box into a size
+        assert_eq!((t.image.width, t.image.height), (85, 85)); // OpenCV rounds the box
         let (x, y) = t.h.map(80.0, 5.0);
         let (cx, cy) = centroid(&t.image);
         assert_abs_diff_eq!(x, cx, epsilon = 0.6);

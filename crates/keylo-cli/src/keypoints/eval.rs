@@ -55,6 +55,12 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
         spec.image.interpolation = parse_interpolation(i)?;
     }
     let paper = args.paper.as_deref().map(PaperFigures::read).transpose()?;
+    // Read before the (long) evaluation, so a wrong folder fails at once.
+    let reference = args
+        .reference
+        .as_deref()
+        .map(keylo::kpeval::reference::Reference::read_dir)
+        .transpose()?;
     let input::Prepared {
         registry,
         set,
@@ -116,8 +122,16 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
         "summary.csv",
         &report::summary_csv(&summaries, paper.as_ref()),
     )?;
-    let md = report::markdown(&summaries, paper.as_ref(), &notes);
+    let mut md = report::markdown(&summaries, paper.as_ref(), &notes);
     write("summary.md", &md)?;
+    if let Some(reference) = &reference {
+        let agreements = keylo::kpeval::reference::agreement(&result.rows, reference);
+        let table = super::reference::markdown(&agreements);
+        write("reference.csv", &super::reference::csv(&agreements))?;
+        write("reference.md", &table)?;
+        md.push_str("\n## Against the authors' per-image results\n\n");
+        md.push_str(&table);
+    }
     let json = serde_json::json!({
         "settings": spec,
         "images": planes.iter().map(|p| &p.label).collect::<Vec<_>>(),

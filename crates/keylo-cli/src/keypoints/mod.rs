@@ -5,6 +5,7 @@
 mod eval;
 mod input;
 mod plots;
+mod reference;
 mod report;
 mod sweep;
 
@@ -86,6 +87,11 @@ pub struct EvalArgs {
     /// median, q3) to print beside ours.
     #[arg(long)]
     pub paper: Option<PathBuf>,
+    /// The paper authors' per-image results (a folder of `DETECTOR_DESCRIPTOR.csv`:
+    /// image_number, evaluation_1 … evaluation_6): writes reference.csv/.md holding keylo's
+    /// results against theirs image by image (images matched by the number in their names).
+    #[arg(long, value_name = "DIR")]
+    pub reference: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -29,6 +29,7 @@ pub fn stdout(o: &Output) -> String {
 }
 
 /// A small simulated frame folder (OS1-64, 512 columns) for fast tests.
+#[allow(dead_code)]
 pub fn small_sim(dir: &Path, frames: usize) {
     std::fs::create_dir_all(dir).expect("create the data folder");
     let out = dir.to_str().expect("utf-8 temp path");
