@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::stats::{Metric, Quartiles, METRICS};
+use crate::stats::{combos_in_order, Metric, Quartiles, METRICS};
 use crate::{KpEvalError, Row};
 
 /// The authors' columns and the metric each holds (`evaluation_3`, time, is kept: it is shown,
@@ -174,13 +174,7 @@ pub struct Agreement {
 
 /// Every combination of `rows` that `reference` has, in the order of `rows`.
 pub fn agreement(rows: &[Row], reference: &Reference) -> Vec<Agreement> {
-    let mut order: Vec<&str> = Vec::new();
-    for r in rows {
-        if !order.contains(&r.combo.as_str()) {
-            order.push(&r.combo);
-        }
-    }
-    order
+    combos_in_order(rows)
         .into_iter()
         .filter_map(|combo| {
             let theirs = reference.combos.get(combo)?;

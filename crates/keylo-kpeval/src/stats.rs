@@ -165,8 +165,8 @@ impl ComboSummary {
     }
 }
 
-/// One summary per combination of `rows`, in order of first appearance.
-pub fn summarise(rows: &[Row]) -> Vec<ComboSummary> {
+/// The combinations of `rows`, each once, in order of first appearance.
+pub(crate) fn combos_in_order(rows: &[Row]) -> Vec<&str> {
     let mut order: Vec<&str> = Vec::new();
     for r in rows {
         if !order.contains(&r.combo.as_str()) {
@@ -174,6 +174,11 @@ pub fn summarise(rows: &[Row]) -> Vec<ComboSummary> {
         }
     }
     order
+}
+
+/// One summary per combination of `rows`, in order of first appearance.
+pub fn summarise(rows: &[Row]) -> Vec<ComboSummary> {
+    combos_in_order(rows)
         .into_iter()
         .map(|combo| {
             let mine: Vec<&Row> = rows.iter().filter(|r| r.combo == combo).collect();
