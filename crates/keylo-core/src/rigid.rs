@@ -3,17 +3,20 @@
 
 use crate::{CoreError, Pose};
 
-/// Refuses a transform with a non-finite value or a rotation quaternion off unit length (it
-/// would not be rigid); the error names `what`.
-pub fn check_rigid(t: &Pose, what: &str) -> Result<(), CoreError> {
-    let finite = t
-        .translation
+/// Whether every value of `t` (translation and rotation quaternion) is finite.
+pub fn is_finite(t: &Pose) -> bool {
+    t.translation
         .vector
         .iter()
         .chain(t.rotation.coords.iter())
-        .all(|v| v.is_finite());
+        .all(|v| v.is_finite())
+}
+
+/// Refuses a transform with a non-finite value or a rotation quaternion off unit length (it
+/// would not be rigid); the error names `what`.
+pub fn check_rigid(t: &Pose, what: &str) -> Result<(), CoreError> {
     let norm = t.rotation.coords.norm();
-    if !finite || (norm - 1.0).abs() > 1e-6 {
+    if !is_finite(t) || (norm - 1.0).abs() > 1e-6 {
         return Err(CoreError::stage(
             "registrar",
             format!(

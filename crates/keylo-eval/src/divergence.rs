@@ -78,11 +78,7 @@ pub fn judge(
     has_ground_truth: bool,
     criterion: &Criterion,
 ) -> (Verdict, String) {
-    let finite = estimate.poses.iter().all(|p| {
-        p.translation.vector.iter().all(|v| v.is_finite())
-            && p.rotation.coords.iter().all(|v| v.is_finite())
-    });
-    if !finite {
+    if !estimate.poses.iter().all(keylo_core::rigid::is_finite) {
         return (Verdict::Diverged, "a pose is not finite".into());
     }
     let step = estimate

@@ -261,12 +261,7 @@ impl KissIcp {
 
     /// Rejects a non-finite pose or one that jumped beyond `max_motion_per_frame`.
     fn check_divergence(&self, pose: &Isometry3<f64>) -> Result<(), RegistrationError> {
-        let finite = pose
-            .translation
-            .vector
-            .iter()
-            .chain(pose.rotation.coords.iter())
-            .all(|v| v.is_finite());
+        let finite = keylo_core::rigid::is_finite(pose);
         let step = (self.last_pose.inverse() * pose).translation.vector.norm();
         let bound = self.config.max_motion_per_frame;
         if !finite || (bound > 0.0 && step > bound) {

@@ -59,13 +59,7 @@ pub fn align(
     guess: &Isometry3<f64>,
     settings: &AlignSettings,
 ) -> Result<NdtResult, RegistrationError> {
-    let finite = guess
-        .translation
-        .vector
-        .iter()
-        .chain(guess.rotation.coords.iter())
-        .all(|v| v.is_finite());
-    if !finite {
+    if !keylo_core::rigid::is_finite(guess) {
         return Err(RegistrationError::BadGuess(format!(
             "NDT initial guess is not finite: {guess}"
         )));
