@@ -70,16 +70,17 @@ impl Odometry {
     #[pyo3(signature = (config=None))]
     fn new(py: Python<'_>, config: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
         let raw = raw_config(config)?;
+        // A kind that is not a string is never seen: building the frontend below refuses it.
         let kinds = keylo::config::STAGE_DEFAULT_KINDS
             .iter()
             .filter(|(section, _)| *section != "source")
-            .map(|(section, default)| {
+            .map(|(section, _)| {
                 let kind = raw
                     .table
                     .get(*section)
                     .and_then(|s| s.get("kind"))
                     .and_then(|k| k.as_str())
-                    .unwrap_or(default);
+                    .unwrap_or(keylo::config::default_kind(section));
                 (section.to_string(), kind.to_string())
             })
             .collect();

@@ -45,6 +45,15 @@ pub const STAGE_DEFAULT_KINDS: [(&str, &str); 6] = [
     ("registrar", "kiss-icp"),
 ];
 
+/// The backend section `section` uses when the file does not say (`none` for a section
+/// without one).
+pub fn default_kind(section: &str) -> &'static str {
+    STAGE_DEFAULT_KINDS
+        .iter()
+        .find(|(s, _)| *s == section)
+        .map_or("none", |(_, k)| *k)
+}
+
 /// Stages whose section may hold per-image overrides, `[detector.by_image.<image>]`.
 pub const PER_IMAGE_STAGES: [&str; 2] = ["detector", "descriptor"];
 

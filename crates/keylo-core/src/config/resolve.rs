@@ -1,8 +1,8 @@
 use std::collections::BTreeMap;
 
 use super::{
-    OutputConfig, PipelineConfig, RawConfig, StageConfig, BY_IMAGE_KEY, PER_IMAGE_STAGES, SECTIONS,
-    STAGE_DEFAULT_KINDS,
+    default_kind, OutputConfig, PipelineConfig, RawConfig, StageConfig, BY_IMAGE_KEY,
+    PER_IMAGE_STAGES, SECTIONS,
 };
 use crate::registry::parse_params;
 use crate::{ConfigError, Registry};
@@ -76,12 +76,8 @@ impl Registry {
             }
             None => Default::default(),
         };
-        let default_kind = STAGE_DEFAULT_KINDS
-            .iter()
-            .find(|(s, _)| *s == section)
-            .map_or("none", |(_, k)| *k);
         let kind = match params.remove("kind") {
-            None => default_kind.to_string(),
+            None => default_kind(section).to_string(),
             Some(toml::Value::String(s)) => s,
             Some(other) => {
                 return Err(invalid(
