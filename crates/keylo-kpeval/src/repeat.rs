@@ -35,19 +35,20 @@ pub fn repeatability(
 /// Keypoints bucketed in square cells of the search radius: a query looks at 3×3 cells.
 struct Grid {
     cell: f64,
-    cells: HashMap<(i64, i64), Vec<(f64, f64)>>,
+    /// The keypoints' positions as they are (`f32`), by cell.
+    cells: HashMap<(i64, i64), Vec<(f32, f32)>>,
 }
 
 impl Grid {
     fn new(points: &[Keypoint], radius: f64) -> Self {
-        let mut cells: HashMap<(i64, i64), Vec<(f64, f64)>> = HashMap::new();
+        let mut cells: HashMap<(i64, i64), Vec<(f32, f32)>> = HashMap::new();
         for k in points {
             let (x, y) = (f64::from(k.x), f64::from(k.y));
             if x.is_finite() && y.is_finite() {
                 cells
                     .entry(((x / radius).floor() as i64, (y / radius).floor() as i64))
                     .or_default()
-                    .push((x, y));
+                    .push((k.x, k.y));
             }
         }
         Self {
@@ -69,7 +70,7 @@ impl Grid {
             (cy - 1..=cy + 1).any(|j| {
                 self.cells.get(&(i, j)).is_some_and(|pts| {
                     pts.iter()
-                        .any(|&(px, py)| closer_than(qx - px as f32, qy - py as f32, radius))
+                        .any(|&(px, py)| closer_than(qx - px, qy - py, radius))
                 })
             })
         })

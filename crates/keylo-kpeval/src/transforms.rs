@@ -100,18 +100,16 @@ pub fn rotate(image: &Image, degrees: f64) -> Result<Transformed, KpEvalError> {
 fn bounding_box_f32(w: f32, h: f32, degrees: f64) -> (f32, f32) {
     let angle = degrees * std::f64::consts::PI / 180.0;
     let (b, a) = (angle.cos() as f32 * 0.5, angle.sin() as f32 * 0.5);
-    let corners = [
-        (-a * h - b * w, b * h - a * w),
-        (a * h - b * w, -b * h - a * w),
-    ];
+    let (x0, y0) = (-a * h - b * w, b * h - a * w);
+    let (x1, y1) = (a * h - b * w, -b * h - a * w);
     // The other two corners are these mirrored through the centre (0, 0).
-    let xs = corners.iter().flat_map(|c| [c.0, -c.0]);
-    let ys = corners.iter().flat_map(|c| [c.1, -c.1]);
-    let span = |v: &mut dyn Iterator<Item = f32>| {
-        let (lo, hi) = v.fold((f32::MAX, f32::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    let span = |v: [f32; 4]| {
+        let (lo, hi) = v
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x)));
         hi - lo
     };
-    (span(&mut xs.clone()), span(&mut ys.clone()))
+    (span([x0, x1, -x0, -x1]), span([y0, y1, -y0, -y1]))
 }
 
 /// `image` resized by `factor` (linear), with the homography of `mode`.
