@@ -56,14 +56,19 @@ def sim(scene="lab", frames=100, **keys):
 from keylo import keypoints  # noqa: E402  (keylo.keypoints.evaluate)
 
 
+def _is_path(config):
+    """Whether a config argument names a file (a path, or a one-line string ending `.toml`)."""
+    return isinstance(config, os.PathLike) or (isinstance(config, str) and "\n" not in config
+                                               and config.endswith(".toml"))
+
+
 def _config_table(config):
     """The config as a dict (for its ``[source]``), and its folder for relative paths."""
     if config is None:
         return {}, pathlib.Path(".")
     if isinstance(config, dict):
         return config, pathlib.Path(".")
-    if isinstance(config, os.PathLike) or (isinstance(config, str) and "\n" not in config
-                                           and config.endswith(".toml")):
+    if _is_path(config):
         path = pathlib.Path(config)
         with path.open("rb") as f:
             return tomllib.load(f), path.parent
@@ -107,6 +112,13 @@ def _ground_truth(gt, table, folder, data, reader):
     return reader.ground_truth()
 
 
+def _truth_args(truth):
+    """Ground truth as ``evaluate``/``judge`` take it: a path, or ``(stamps, poses)``."""
+    if isinstance(truth, tuple):
+        return {"gt": truth[1], "gt_stamps": truth[0]}
+    return {"gt": truth}
+
+
 def _run(config, data, gt, source):
     """``run``'s work: ``(records, summary, error)``, where ``error`` is the ``KeyloError``
     that stopped the run after the frames in ``records`` (None when the data ran out). A
@@ -147,11 +159,7 @@ def _run(config, data, gt, source):
     truth = _ground_truth(gt, table, folder, path, reader)
     accuracy = None
     if records and truth is not None:
-        if isinstance(truth, tuple):
-            gt_stamps, poses = truth
-            accuracy = evaluate(trajectory, poses, est_stamps=stamps, gt_stamps=gt_stamps)
-        else:
-            accuracy = evaluate(trajectory, truth, est_stamps=stamps)
+        accuracy = evaluate(trajectory, est_stamps=stamps, **_truth_args(truth))
     mean = (lambda key: float(np.mean([r[key] for r in records]))) if records else (lambda key: 0.0)
     seconds = sum(r["odometry_ms"] for r in records) * 1e-3
     summary = {
@@ -187,8 +195,7 @@ def _label(config):
         return "default"
     if isinstance(config, dict):
         return "dict"
-    if isinstance(config, os.PathLike) or (isinstance(config, str) and "\n" not in config
-                                           and config.endswith(".toml")):
+    if _is_path(config):
         return pathlib.Path(config).stem
     return "text"
 
@@ -218,15 +225,9 @@ def _compare_row(config, data, gt, source, criterion):
     accuracy = summary["accuracy"] or {}
     row.update(rpe_trans_m=accuracy.get("rpe_trans_rmse_m"),
                rpe_rot_deg=accuracy.get("rpe_rot_rmse_deg"))
-    truth = summary["ground_truth"]
     if records:
-        if isinstance(truth, tuple):
-            figures = judge(summary["trajectory"], truth[1], est_stamps=summary["stamps"],
-                            gt_stamps=truth[0], **criterion)
-        else:
-            figures = judge(summary["trajectory"], truth, est_stamps=summary["stamps"],
-                            **criterion)
-        row.update(figures)
+        row.update(judge(summary["trajectory"], est_stamps=summary["stamps"],
+                         **_truth_args(summary["ground_truth"]), **criterion))
     if error is not None:
         row.update(verdict="failed", reason=f"stopped at frame {len(records)}: {error}")
     elif summary["interrupted"]:
