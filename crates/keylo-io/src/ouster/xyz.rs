@@ -14,9 +14,26 @@ pub struct XyzLut {
     cols: usize,
     direction: Vec<Vector3<f64>>,
     offset: Vec<Vector3<f64>>,
-    /// The same tables in f32, interleaved `[dx, dy, dz, ox, oy, oz]` per pixel: half the
-    /// memory traffic for the per-frame loop (error < 0.1 mm at 500 m).
-    packed: Vec<[f32; 6]>,
+    /// The per-frame path in f32 without a per-pixel table (a table is 3 MB to read per
+    /// 128×1024 frame, more than the frame's channels): per column cos/sin of the encoder
+    /// angle, per row the beam's terms (error < 0.1 mm at 500 m).
+    columns: Vec<[f32; 2]>,
+    beams: Vec<BeamTerms>,
+    /// lidar → sensor rotation and translation, scaled mm → m.
+    rot: [[f32; 3]; 3],
+    trans: [f32; 3],
+    /// Beam origin off the lidar axis and its height, mm.
+    n: f32,
+    z0: f32,
+}
+
+/// One beam's terms of the angle-sum form of ouster-sdk's formula.
+#[derive(Debug, Clone, Copy)]
+pub struct BeamTerms {
+    /// cos(azimuth)·cos(altitude), sin(azimuth)·cos(altitude), sin(altitude).
+    a: f32,
+    b: f32,
+    s: f32,
 }
 
 impl XyzLut {
@@ -47,16 +64,31 @@ impl XyzLut {
                 offset.push((rot * o + trans) * 1e-3);
             }
         }
-        let packed = direction
+        let columns = encoder
             .iter()
-            .zip(&offset)
-            .map(|(d, o)| [d.x, d.y, d.z, o.x, o.y, o.z].map(|v| v as f32))
+            .map(|&(sin_enc, cos_enc)| [cos_enc as f32, sin_enc as f32])
+            .collect();
+        let beams = (0..rows)
+            .map(|r| {
+                let (sin_az, cos_az) = (-meta.beam_azimuth_angles[r] * PI / 180.0).sin_cos();
+                let (sin_alt, cos_alt) = (meta.beam_altitude_angles[r] * PI / 180.0).sin_cos();
+                BeamTerms {
+                    a: (cos_az * cos_alt) as f32,
+                    b: (sin_az * cos_alt) as f32,
+                    s: sin_alt as f32,
+                }
+            })
             .collect();
         Self {
             cols,
             direction,
             offset,
-            packed,
+            columns,
+            beams,
+            rot: std::array::from_fn(|i| std::array::from_fn(|j| (rot[(i, j)] * 1e-3) as f32)),
+            trans: std::array::from_fn(|i| (trans[i] * 1e-3) as f32),
+            n: n as f32,
+            z0: z0 as f32,
         }
     }
 
@@ -78,8 +110,38 @@ impl XyzLut {
         if range_mm == 0 {
             return None;
         }
-        let t = &self.packed[row * self.cols + col];
-        let r = range_mm as f32;
-        Some([t[0] * r + t[3], t[1] * r + t[4], t[2] * r + t[5]])
+        Some(self.point_of(self.beams[row], self.columns[col], range_mm))
+    }
+
+    /// The terms of beam (row) `row`.
+    #[inline]
+    pub fn beam(&self, row: usize) -> BeamTerms {
+        self.beams[row]
+    }
+
+    /// cos/sin of the encoder angle of every column.
+    #[inline]
+    pub fn columns(&self) -> &[[f32; 2]] {
+        &self.columns
+    }
+
+    /// The point of `beam` at encoder angle `[cos, sin]` and `range_mm` (any range: the
+    /// caller treats range 0 as no return).
+    #[inline]
+    pub fn point_of(
+        &self,
+        beam: BeamTerms,
+        [cos_enc, sin_enc]: [f32; 2],
+        range_mm: u32,
+    ) -> [f32; 3] {
+        // The point in the lidar frame, mm: along the beam from its origin, `n` off the axis.
+        let along = range_mm as f32 - self.n;
+        let p = [
+            (cos_enc * beam.a - sin_enc * beam.b) * along + cos_enc * self.n,
+            (sin_enc * beam.a + cos_enc * beam.b) * along + sin_enc * self.n,
+            beam.s * along + self.z0,
+        ];
+        let (m, t) = (&self.rot, &self.trans);
+        std::array::from_fn(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + t[i])
     }
 }
