@@ -1,6 +1,6 @@
 //! Staggered packet columns → the destaggered, organised [`LidarFrame`]: every channel
-//! shifted row by row as ouster-sdk's `destagger` does, XYZ from the beam and encoder terms, and the
-//! firing time of every pixel.
+//! shifted row by row as ouster-sdk's `destagger` does, XYZ from the beam and encoder terms,
+//! and the firing time of every pixel.
 
 use std::mem::MaybeUninit;
 use std::sync::Arc;
