@@ -1,5 +1,6 @@
 //! `keylo sim`: simulate a sequence and write it as a keylo frame folder or KITTI .bin files.
 
+use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
@@ -11,13 +12,18 @@ use keylo::io::kitti_bin::write_kitti_bin;
 use keylo::sim::{SimConfig, Simulator};
 use keylo::Trajectory;
 
-use crate::args::{SimArgs, SimFormat};
+use crate::args::{SimArgs, SimCommand, SimFormat};
 
-pub fn run(args: SimArgs, quiet: bool) -> Result<ExitCode> {
-    let config = sim_config(&args)?;
+pub fn run(args: SimArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
+    if let Some(SimCommand::Realism(r)) = args.command {
+        return crate::realism::run(r, threads, quiet);
+    }
+    let Some(out) = args.out.clone() else {
+        anyhow::bail!("keylo sim: --out DIR is required");
+    };
+    let config = sim_config(&args.scene, args.frames, &args.sets)?;
     let sim = Simulator::new(&config)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let progress = if quiet {
         ProgressBar::hidden()
     } else {
@@ -26,8 +32,8 @@ pub fn run(args: SimArgs, quiet: bool) -> Result<ExitCode> {
     let gt = sim.ground_truth();
     let description = format!("keylo sim {}", args_line(&args));
     match args.format {
-        SimFormat::Frames => write_frames(&sim, &args, &description, &progress)?,
-        SimFormat::KittiBin => write_bins(&sim, &args, &progress)?,
+        SimFormat::Frames => write_frames(&sim, &out, &description, &progress)?,
+        SimFormat::KittiBin => write_bins(&sim, &out, &progress)?,
     }
     progress.finish_and_clear();
     let gt = match args.format {
@@ -38,24 +44,21 @@ pub fn run(args: SimArgs, quiet: bool) -> Result<ExitCode> {
             poses: gt.poses,
         },
     };
-    let gt_path = args.out.join("gt.tum");
+    let gt_path = out.join("gt.tum");
     keylo::io::trajectory::write_tum(&gt_path, &gt)
         .with_context(|| format!("writing {}", gt_path.display()))?;
     if !quiet {
-        println!(
-            "wrote {} frames and gt.tum to {}",
-            sim.len(),
-            args.out.display()
-        );
+        println!("wrote {} frames and gt.tum to {}", sim.len(), out.display());
     }
     Ok(ExitCode::SUCCESS)
 }
 
-fn sim_config(args: &SimArgs) -> Result<SimConfig> {
+/// The simulator's parameters: `scene`, `frames` and `KEY=VALUE` settings on the defaults.
+pub fn sim_config(scene: &str, frames: usize, sets: &[String]) -> Result<SimConfig> {
     let mut raw = RawConfig::builtin();
-    raw.set(&format!("scene={}", args.scene))?;
-    raw.set(&format!("frames={}", args.frames))?;
-    for s in &args.sets {
+    raw.set(&format!("scene={scene}"))?;
+    raw.set(&format!("frames={frames}"))?;
+    for s in sets {
         raw.set(s)?;
     }
     parse_params::<SimConfig>(&raw.table)
@@ -74,13 +77,13 @@ fn args_line(args: &SimArgs) -> String {
 
 fn write_frames(
     sim: &Simulator,
-    args: &SimArgs,
+    out: &Path,
     description: &str,
     progress: &ProgressBar,
 ) -> Result<()> {
     let first = sim.frame(0);
     let mut writer = FramesWriter::create(
-        &args.out,
+        out,
         first.rows,
         first.cols,
         (*first.beams).clone(),
@@ -96,8 +99,8 @@ fn write_frames(
     Ok(())
 }
 
-fn write_bins(sim: &Simulator, args: &SimArgs, progress: &ProgressBar) -> Result<()> {
-    let dir = args.out.join("velodyne");
+fn write_bins(sim: &Simulator, out: &Path, progress: &ProgressBar) -> Result<()> {
+    let dir = out.join("velodyne");
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     keylo::io::remove_files_with_extension(&dir, "bin")?;
     for i in 0..sim.len() {

@@ -14,6 +14,7 @@ mod degeneracy_out;
 mod journal;
 mod keypoints;
 mod plot_out;
+mod realism;
 mod report;
 mod resources;
 mod trajectories;
@@ -53,7 +54,7 @@ fn main() -> ExitCode {
     }
     let outcome = match cli.command {
         Command::Run(a) => cmd_run::run(a, cli.quiet),
-        Command::Sim(a) => cmd_sim::run(a, cli.quiet),
+        Command::Sim(a) => cmd_sim::run(a, cli.threads, cli.quiet),
         Command::Eval(a) => cmd_eval::run(a),
         Command::Info(a) => cmd_info::run(a),
         Command::Convert(a) => cmd_convert::run(a, cli.quiet),

@@ -21,6 +21,7 @@ mod error;
 mod frame_eval;
 mod params;
 mod plane;
+pub mod realism;
 mod record;
 pub mod reference;
 mod repeat;

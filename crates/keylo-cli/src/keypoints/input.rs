@@ -85,7 +85,7 @@ pub fn registry(args: &InputArgs) -> Result<keylo::Registry> {
 }
 
 /// The PNG files of `dir` in natural name order (none: not a PNG folder).
-fn png_files(dir: &Path) -> Vec<PathBuf> {
+pub(crate) fn png_files(dir: &Path) -> Vec<PathBuf> {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return Vec::new();
     };

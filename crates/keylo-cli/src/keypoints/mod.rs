@@ -2,8 +2,8 @@
 //! (metrics and the sweep are in `keylo-kpeval`; this module reads the input, shows progress,
 //! and writes tables and plots).
 
-mod eval;
-mod input;
+pub(crate) mod eval;
+pub(crate) mod input;
 mod plots;
 mod reference;
 mod report;

@@ -1,0 +1,207 @@
+//! `keylo sim realism`: how far the simulator's images are from real ones — per detector the
+//! keypoint count and the other metrics of the keypoint study, and the distances between the
+//! intensity and gradient-magnitude histograms, for every simulated channel against a folder
+//! of real images.
+
+mod report;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use keylo::features::image::{Normalise, NormaliseMethod};
+use keylo::kpeval::realism::Histograms;
+use keylo::kpeval::{evaluate, summarise, ComboSummary, EvalOptions, EvalSpec, Plane};
+use keylo::sim::Simulator;
+use keylo::{BuildContext, Channel};
+
+use crate::keypoints::eval::progress;
+
+/// The seven detectors of the realism goal, each with a descriptor OpenCV ships (so match
+/// ratio and match score are OpenCV's own).
+pub const DEFAULT_COMBOS: &str =
+    "AKAZE_AKAZE,ORB_ORB,FAST_BRISK,SHITOMASI_BRISK,HARRIS_BRISK,SIFT_SIFT,BRISK_BRISK";
+
+#[derive(Debug, Args)]
+pub struct RealismArgs {
+    /// A folder of real LiDAR images (PNG, natural name order), e.g.
+    /// ../shared/data/tiers_signal (OS0-128 signal images, uint8(counts / 256)).
+    #[arg(long)]
+    pub real: PathBuf,
+    /// Real images used (the first N).
+    #[arg(long, default_value_t = 100)]
+    pub real_frames: usize,
+    /// Scene simulated: lab, corridor, road (see `keylo sim --help`).
+    #[arg(long, default_value = "lab")]
+    pub scene: String,
+    /// Simulated frames.
+    #[arg(long, default_value_t = 100)]
+    pub frames: usize,
+    /// Any other simulator parameter, e.g. --set seed=3.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// Simulated channels compared with the real images.
+    #[arg(long, default_value = "signal,reflectivity,near-ir,range")]
+    pub channels: String,
+    /// Counts → grey level of the simulated signal, as the real images were made (the TIERS
+    /// images: uint8(counts / 256)). The signal is also evaluated with keylo's default
+    /// per-frame stretch (`signal-stretched`); other channels always are.
+    #[arg(long, default_value_t = 1.0 / 256.0)]
+    pub signal_scale: f64,
+    /// Detector/descriptor combinations evaluated.
+    #[arg(long, default_value = DEFAULT_COMBOS)]
+    pub combos: String,
+    /// Combinations evaluated at a time (default: one per core).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Output folder: realism.md, realism.csv, histograms.csv, realism.json.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// One set of images compared: the real ones or one simulated channel.
+pub struct ImageSet {
+    pub name: String,
+    pub histograms: Histograms,
+    pub summaries: Vec<ComboSummary>,
+}
+
+pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
+    let spec = EvalSpec::default();
+    let real = real_planes(&args, &spec.image.normalise)?;
+    let channels = channels(&args.channels)?;
+    let sim = Simulator::new(&crate::cmd_sim::sim_config(
+        &args.scene,
+        args.frames,
+        &args.sets,
+    )?)?;
+    if sim.len() < 2 {
+        bail!(
+            "--frames {}: the match metrics need at least 2",
+            args.frames
+        );
+    }
+    let mut inputs: Vec<(String, Vec<Plane>)> = vec![("real".into(), real)];
+    inputs.extend(sim_planes(&sim, &channels, args.signal_scale));
+    let registry = keylo::registry();
+    let set = keylo::kpeval::ComboSet::parse(&args.combos);
+    let combos = keylo::kpeval::parse_combos(&set, &registry).context("--combos")?;
+    let jobs = args
+        .jobs
+        .or(threads)
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let ctx = BuildContext::default();
+    let mut sets = Vec::new();
+    for (name, planes) in inputs {
+        let bar = progress(quiet, &format!("{name:>18}"));
+        let tick = |done: usize, total: usize| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        };
+        let opts = EvalOptions {
+            jobs: jobs.max(1),
+            skip_unavailable: false,
+            progress: Some(&tick),
+        };
+        let result = evaluate(&planes, &combos, &spec, &registry, &ctx, &opts)
+            .with_context(|| format!("evaluating the {name} images"))?;
+        bar.finish_and_clear();
+        if let Some((combo, why)) = result.failed.first() {
+            bail!("{name} images: {combo} failed: {why}");
+        }
+        sets.push(ImageSet {
+            histograms: Histograms::of(&planes, &spec.image)?,
+            summaries: summarise(&result.rows),
+            name,
+        });
+    }
+    let heading = format!(
+        "`keylo sim realism --real {} --real-frames {} --scene {} --frames {}{}`",
+        args.real.display(),
+        args.real_frames,
+        args.scene,
+        args.frames,
+        args.sets
+            .iter()
+            .map(|s| format!(" --set {s}"))
+            .collect::<String>()
+    );
+    let md = report::write(&args.out, &sets, &heading)?;
+    if !quiet {
+        print!("{md}");
+        println!("\nresults in {}", args.out.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The first `--real-frames` PNG files of `--real`.
+fn real_planes(args: &RealismArgs, normalise: &Normalise) -> Result<Vec<Plane>> {
+    let files = crate::keypoints::input::png_files(&args.real);
+    if files.len() < 2 {
+        bail!(
+            "--real {}: expected a folder with at least 2 PNG images, found {}",
+            args.real.display(),
+            files.len()
+        );
+    }
+    files
+        .iter()
+        .take(args.real_frames.max(2))
+        .map(|p| Plane::from_png(p, normalise).map_err(Into::into))
+        .collect()
+}
+
+fn channels(list: &str) -> Result<Vec<Channel>> {
+    let channels: Vec<Channel> = list
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            s.parse()
+                .map_err(|e: String| anyhow::anyhow!("--channels: {e}"))
+        })
+        .collect::<Result<_>>()?;
+    if channels.is_empty() {
+        bail!("--channels {list:?}: expected at least one of range, signal, reflectivity, near-ir");
+    }
+    Ok(channels)
+}
+
+/// Every simulated frame's image of each channel: the signal as the real images were made
+/// (`scale`) and stretched as keylo does by default; other channels stretched.
+fn sim_planes(sim: &Simulator, channels: &[Channel], scale: f64) -> Vec<(String, Vec<Plane>)> {
+    let stretched = Normalise::default();
+    let fixed = Normalise {
+        method: NormaliseMethod::Fixed,
+        scale,
+        ..Normalise::default()
+    };
+    let mut sets: Vec<(String, Normalise, Channel)> = Vec::new();
+    for &c in channels {
+        if c == Channel::Signal {
+            sets.push(("signal".into(), fixed.clone(), c));
+            sets.push(("signal-stretched".into(), stretched.clone(), c));
+        } else {
+            sets.push((c.name().into(), stretched.clone(), c));
+        }
+    }
+    let mut planes: Vec<Vec<Plane>> = vec![Vec::new(); sets.len()];
+    for i in 0..sim.len() {
+        let frame = sim.frame(i);
+        for ((_, normalise, channel), out) in sets.iter().zip(&mut planes) {
+            out.push(Plane::from_frame(
+                &frame,
+                *channel,
+                normalise,
+                format!("frame {i}"),
+            ));
+        }
+    }
+    sets.into_iter()
+        .zip(planes)
+        .map(|((name, _, _), p)| (format!("sim {name}"), p))
+        .collect()
+}

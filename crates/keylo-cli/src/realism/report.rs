@@ -1,0 +1,300 @@
+//! The realism tables: Markdown (keypoint counts against the real interquartile range, the
+//! match metrics against the real medians, the other metrics, histogram distances, the goal),
+//! CSV of every quartile, CSV of the histograms, JSON.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use keylo::kpeval::realism::{distance, Distance, GRADIENT_BIN_WIDTH};
+use keylo::kpeval::{ComboSummary, Quartiles};
+
+use super::ImageSet;
+
+/// Largest difference from the real median that counts as alike, for match ratio and score.
+const MATCH_TOLERANCE: f64 = 0.1;
+
+/// Metrics beside the keypoint count and the match metrics, by median.
+const OTHER_METRICS: &[&str] = &[
+    "robustness_rotation",
+    "robustness_scaling_corrected",
+    "robustness_blur",
+    "distinctiveness",
+];
+
+/// Writes realism.md, realism.csv, histograms.csv and realism.json into `out`; returns the
+/// Markdown.
+pub fn write(out: &Path, sets: &[ImageSet], heading: &str) -> Result<String> {
+    let md = markdown(sets, heading);
+    let file = |name: &str, text: &str| {
+        let p = out.join(name);
+        std::fs::write(&p, text).with_context(|| format!("writing {}", p.display()))
+    };
+    file("realism.md", &md)?;
+    file("realism.csv", &quartiles_csv(sets))?;
+    file("histograms.csv", &histograms_csv(sets))?;
+    file("realism.json", &serde_json::to_string_pretty(&json(sets))?)?;
+    Ok(md)
+}
+
+fn quartiles<'a>(set: &'a ImageSet, combo: &str, metric: &str) -> Option<&'a Quartiles> {
+    set.summaries
+        .iter()
+        .find(|s| s.combo == combo)
+        .and_then(|s| s.get(metric))
+}
+
+/// The combinations of the real set, in its order.
+fn combos(sets: &[ImageSet]) -> Vec<&ComboSummary> {
+    sets.first()
+        .map_or(Vec::new(), |s| s.summaries.iter().collect())
+}
+
+/// Whether `q`'s median lies in the real interquartile range.
+fn inside(real: &Quartiles, q: &Quartiles) -> bool {
+    q.median >= real.q1 && q.median <= real.q3
+}
+
+fn close(real: &Quartiles, q: &Quartiles) -> bool {
+    (q.median - real.median).abs() <= MATCH_TOLERANCE
+}
+
+fn distances(real: &ImageSet, set: &ImageSet) -> (Distance, Distance) {
+    (
+        distance(&real.histograms.intensity, &set.histograms.intensity, 1.0),
+        distance(
+            &real.histograms.gradient,
+            &set.histograms.gradient,
+            GRADIENT_BIN_WIDTH,
+        ),
+    )
+}
+
+pub fn markdown(sets: &[ImageSet], heading: &str) -> String {
+    let Some((real, sim)) = sets.split_first() else {
+        return String::new();
+    };
+    let mut md = format!(
+        "# Simulated against real images\n\n{heading}\n\n{} real images, {} simulated frames \
+         per channel, all resized to 1024×64 (linear) as the keypoint study does.\n\n",
+        real.histograms.images,
+        sim.first().map_or(0, |s| s.histograms.images)
+    );
+    goal(&mut md, real, sim);
+    keypoint_table(&mut md, real, sim);
+    match_table(&mut md, real, sim);
+    other_table(&mut md, real, sim);
+    histogram_table(&mut md, real, sim);
+    md
+}
+
+/// The goal, for the simulated signal as the real images were made.
+fn goal(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
+    let Some(signal) = sim.iter().find(|s| s.name == "sim signal") else {
+        return;
+    };
+    let check = |metric: &str, test: fn(&Quartiles, &Quartiles) -> bool| {
+        let mut met = Vec::new();
+        let mut missed = Vec::new();
+        for c in &real.summaries {
+            let pair = (
+                quartiles(real, &c.combo, metric),
+                quartiles(signal, &c.combo, metric),
+            );
+            match pair {
+                (Some(r), Some(q)) if test(r, q) => met.push(c.combo.as_str()),
+                _ => missed.push(c.combo.as_str()),
+            }
+        }
+        (met, missed)
+    };
+    let _ = writeln!(md, "## Goal: the simulated signal images\n");
+    let lines = [
+        (
+            "keypoint count inside the real interquartile range",
+            check("keypoints", inside),
+        ),
+        (
+            "match ratio within 0.1 of the real median",
+            check("match_ratio", close),
+        ),
+        (
+            "match score within 0.1 of the real median",
+            check("match_score", close),
+        ),
+    ];
+    for (what, (met, missed)) in lines {
+        let n = met.len() + missed.len();
+        let _ = write!(md, "- {what}: **{} of {n}**", met.len());
+        if !missed.is_empty() {
+            let _ = write!(md, " (not: {})", missed.join(", "));
+        }
+        md.push('\n');
+    }
+    md.push('\n');
+}
+
+fn header(md: &mut String, first: &[&str], sim: &[ImageSet]) {
+    let names: Vec<&str> = sim.iter().map(|s| s.name.as_str()).collect();
+    let cols = [first, &names].concat();
+    let _ = writeln!(md, "| {} |", cols.join(" | "));
+    let _ = writeln!(md, "|{}", "---|".repeat(cols.len()));
+}
+
+fn keypoint_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
+    md.push_str(
+        "## Keypoints per image\n\nMedian; ✓: inside the real images' interquartile range.\n\n",
+    );
+    header(md, &["combination", "real median [q1, q3]"], sim);
+    for c in combos(std::slice::from_ref(real)) {
+        let Some(r) = c.get("keypoints") else {
+            continue;
+        };
+        let _ = write!(
+            md,
+            "| {} | {:.0} [{:.0}, {:.0}] |",
+            c.combo, r.median, r.q1, r.q3
+        );
+        for s in sim {
+            match quartiles(s, &c.combo, "keypoints") {
+                Some(q) => {
+                    let mark = if inside(r, q) { " ✓" } else { "" };
+                    let _ = write!(md, " {:.0}{mark} |", q.median);
+                }
+                None => md.push_str(" – |"),
+            }
+        }
+        md.push('\n');
+    }
+    md.push('\n');
+}
+
+fn match_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
+    md.push_str("## Match ratio and match score\n\nMedian; ✓: within 0.1 of the real median.\n\n");
+    header(md, &["combination", "metric", "real"], sim);
+    for c in combos(std::slice::from_ref(real)) {
+        for metric in ["match_ratio", "match_score"] {
+            let Some(r) = c.get(metric) else {
+                continue;
+            };
+            let _ = write!(md, "| {} | {metric} | {:.3} |", c.combo, r.median);
+            for s in sim {
+                match quartiles(s, &c.combo, metric) {
+                    Some(q) => {
+                        let mark = if close(r, q) { " ✓" } else { "" };
+                        let _ = write!(md, " {:.3}{mark} |", q.median);
+                    }
+                    None => md.push_str(" – |"),
+                }
+            }
+            md.push('\n');
+        }
+    }
+    md.push('\n');
+}
+
+fn other_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
+    md.push_str("## The other metrics\n\nMedians.\n\n");
+    header(md, &["combination", "metric", "real"], sim);
+    for c in combos(std::slice::from_ref(real)) {
+        for &metric in OTHER_METRICS {
+            let Some(r) = c.get(metric) else {
+                continue;
+            };
+            let _ = write!(md, "| {} | {metric} | {:.3} |", c.combo, r.median);
+            for s in sim {
+                match quartiles(s, &c.combo, metric) {
+                    Some(q) => {
+                        let _ = write!(md, " {:.3} |", q.median);
+                    }
+                    None => md.push_str(" – |"),
+                }
+            }
+            md.push('\n');
+        }
+    }
+    md.push('\n');
+}
+
+fn histogram_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
+    md.push_str(
+        "## Histograms\n\nMean over each set's resized images. EMD: earth mover's distance to \
+         the real images' histogram (grey levels; gradient: grey levels per pixel of Sobel \
+         magnitude); Hellinger: 0 same, 1 disjoint.\n\n",
+    );
+    md.push_str(
+        "| images | mean grey | intensity EMD | intensity Hellinger | mean gradient | \
+         gradient EMD | gradient Hellinger |\n|---|---|---|---|---|---|---|\n",
+    );
+    let _ = writeln!(
+        md,
+        "| real | {:.1} | – | – | {:.1} | – | – |",
+        real.histograms.mean_intensity(),
+        real.histograms.mean_gradient()
+    );
+    for s in sim {
+        let (i, g) = distances(real, s);
+        let _ = writeln!(
+            md,
+            "| {} | {:.1} | {:.1} | {:.3} | {:.1} | {:.1} | {:.3} |",
+            s.name,
+            s.histograms.mean_intensity(),
+            i.emd,
+            i.hellinger,
+            s.histograms.mean_gradient(),
+            g.emd,
+            g.hellinger
+        );
+    }
+}
+
+fn quartiles_csv(sets: &[ImageSet]) -> String {
+    let mut csv = String::from("set,combination,metric,n,q1,median,q3,mean\n");
+    for s in sets {
+        for c in &s.summaries {
+            for (metric, q) in &c.metrics {
+                let _ = writeln!(
+                    csv,
+                    "{},{},{metric},{},{},{},{},{}",
+                    s.name, c.combo, q.n, q.q1, q.median, q.q3, q.mean
+                );
+            }
+        }
+    }
+    csv
+}
+
+fn histograms_csv(sets: &[ImageSet]) -> String {
+    let names: Vec<&str> = sets.iter().map(|s| s.name.as_str()).collect();
+    let mut csv = format!("histogram,bin_start,{}\n", names.join(","));
+    let mut rows = |kind: &str, width: f64, get: fn(&ImageSet) -> &Vec<f64>| {
+        let bins = sets.first().map_or(0, |s| get(s).len());
+        for b in 0..bins {
+            let values: Vec<String> = sets.iter().map(|s| get(s)[b].to_string()).collect();
+            let _ = writeln!(csv, "{kind},{},{}", b as f64 * width, values.join(","));
+        }
+    };
+    rows("intensity", 1.0, |s| &s.histograms.intensity);
+    rows("gradient", GRADIENT_BIN_WIDTH, |s| &s.histograms.gradient);
+    csv
+}
+
+fn json(sets: &[ImageSet]) -> serde_json::Value {
+    let real = sets.first();
+    let entries: Vec<serde_json::Value> = sets
+        .iter()
+        .map(|s| {
+            let d = real.map(|r| distances(r, s));
+            serde_json::json!({
+                "name": s.name,
+                "images": s.histograms.images,
+                "mean_intensity": s.histograms.mean_intensity(),
+                "mean_gradient": s.histograms.mean_gradient(),
+                "intensity_distance": d.map(|d| d.0),
+                "gradient_distance": d.map(|d| d.1),
+                "combos": s.summaries,
+            })
+        })
+        .collect();
+    serde_json::json!({ "sets": entries })
+}

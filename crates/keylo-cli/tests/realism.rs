@@ -1,0 +1,110 @@
+//! `keylo sim realism`: simulated images against real ones — the tables, the histograms and
+//! bad input.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{expect_failure, keylo, stdout};
+
+fn real_images() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/kpeval/images/os0")
+}
+
+#[test]
+fn realism_writes_the_tables_and_histograms() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("realism");
+    let (real, out_s) = (real_images(), out.to_str().unwrap().to_string());
+    let o = keylo(
+        &[
+            "sim",
+            "realism",
+            "--real",
+            real.to_str().unwrap(),
+            "--frames",
+            "3",
+            "--set",
+            "sensor=os1-64",
+            "--set",
+            "columns=512",
+            "--channels",
+            "signal,range",
+            "--combos",
+            "ORB_ORB,FAST_BRISK",
+            "--jobs",
+            "1",
+            "--out",
+            &out_s,
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(out.join("realism.md")).unwrap();
+    assert_eq!(md, stdout(&o).split("\nresults in").next().unwrap());
+    for needle in [
+        "keypoint count inside the real interquartile range: **",
+        "| ORB_ORB |",
+        "| FAST_BRISK | match_ratio |",
+        "| sim signal | ",
+        "| sim signal-stretched | ",
+        "| sim range | ",
+    ] {
+        assert!(md.contains(needle), "realism.md lacks `{needle}`:\n{md}");
+    }
+    // Every set has both combinations' keypoint counts.
+    let csv = std::fs::read_to_string(out.join("realism.csv")).unwrap();
+    for set in ["real", "sim signal", "sim signal-stretched", "sim range"] {
+        for combo in ["ORB_ORB", "FAST_BRISK"] {
+            let row = format!("{set},{combo},keypoints,");
+            assert!(csv.contains(&row), "realism.csv lacks {row}");
+        }
+    }
+    // Histograms: one column per set, each summing to 1 per histogram.
+    let hist = std::fs::read_to_string(out.join("histograms.csv")).unwrap();
+    let mut lines = hist.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header.len(), 2 + 4, "{header:?}");
+    let mut sums = std::collections::HashMap::<&str, Vec<f64>>::new();
+    for l in lines {
+        let cells: Vec<&str> = l.split(',').collect();
+        let s = sums.entry(cells[0]).or_insert_with(|| vec![0.0; 4]);
+        for (k, v) in cells[2..].iter().enumerate() {
+            s[k] += v.parse::<f64>().unwrap();
+        }
+    }
+    for kind in ["intensity", "gradient"] {
+        for (k, s) in sums[kind].iter().enumerate() {
+            assert!(
+                (s - 1.0).abs() < 1e-9,
+                "{kind} histogram of set {k} sums to {s}"
+            );
+        }
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("realism.json")).unwrap()).unwrap();
+    let sets = json["sets"].as_array().unwrap();
+    assert_eq!(sets.len(), 4);
+    assert_eq!(sets[0]["intensity_distance"]["emd"], 0.0);
+    assert!(sets[1]["intensity_distance"]["emd"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn realism_bad_input_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let real = real_images();
+    let real = real.to_str().unwrap();
+    let cases: [(&[&str], &str); 3] = [
+        (&["--real", "no-such-folder"], "--real no-such-folder"),
+        (
+            &["--real", real, "--channels", "colour"],
+            "unknown channel `colour`",
+        ),
+        (&["--real", real, "--frames", "1"], "--frames 1"),
+    ];
+    for (extra, needle) in cases {
+        let mut args = vec!["sim", "realism", "--out", "o", "--combos", "ORB_ORB"];
+        args.extend_from_slice(extra);
+        expect_failure(&keylo(&args, tmp.path()), 2, needle);
+    }
+}
