@@ -24,6 +24,8 @@ fn realism_writes_the_tables_and_histograms() {
             real.to_str().unwrap(),
             "--frames",
             "3",
+            "--seeds",
+            "2",
             "--set",
             "sensor=os1-64",
             "--set",

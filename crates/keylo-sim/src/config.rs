@@ -73,6 +73,14 @@ pub struct SimConfig {
     /// Seconds over which the sensor accelerates smoothly from rest to full speed (as a
     /// recording that starts with the robot standing); 0 = full speed from the first frame.
     pub start_ramp_s: f64,
+    /// Multiplier of the scene's sway (the small yaw, pitch, roll and height oscillation of a
+    /// carried sensor); 0 with `speed_scale = 0` holds the sensor still.
+    pub sway_scale: f64,
+    /// `ideal` (the shading model alone), or `ouster`: what real OS0-128 signal images show
+    /// — their signal level, per-beam gains, noise and near-field fall-off, weak returns that
+    /// break up — and, in the lab, a hall's painted walls, plain floor and clutter
+    /// (docs/results/sim-realism.md).
+    pub appearance: crate::Appearance,
 }
 
 impl Default for SimConfig {
@@ -88,6 +96,8 @@ impl Default for SimConfig {
             max_range_m: 0.0,
             speed_scale: 1.0,
             start_ramp_s: 2.0,
+            sway_scale: 1.0,
+            appearance: crate::Appearance::Ideal,
         }
     }
 }
@@ -119,6 +129,12 @@ impl SimConfig {
             return Err(SimError::config(
                 "speed_scale",
                 format!("{} must be finite and ≥ 0", self.speed_scale),
+            ));
+        }
+        if !self.sway_scale.is_finite() || self.sway_scale < 0.0 {
+            return Err(SimError::config(
+                "sway_scale",
+                format!("{} must be finite and ≥ 0", self.sway_scale),
             ));
         }
         if !self.start_ramp_s.is_finite() || self.start_ramp_s < 0.0 {

@@ -17,6 +17,7 @@
 
 #![warn(missing_docs)]
 
+pub mod appearance;
 pub mod config;
 pub mod error;
 pub mod motion;
@@ -31,8 +32,11 @@ pub mod texture;
 pub mod world;
 
 #[cfg(test)]
+mod appearance_tests;
+#[cfg(test)]
 mod tests;
 
+pub use appearance::Appearance;
 pub use config::{SceneKind, SensorKind, SimConfig, ALLOWED_COLUMNS};
 pub use error::SimError;
 pub use simulator::Simulator;

@@ -130,6 +130,16 @@ impl Motion {
         }
     }
 
+    /// The same motion with every sway amplitude times `k` (0: no sway).
+    pub fn with_sway_scaled(mut self, k: f64) -> Self {
+        let s = &mut self.sway;
+        s.yaw_amp *= k;
+        s.pitch_amp *= k;
+        s.roll_amp *= k;
+        s.bob_amp *= k;
+        self
+    }
+
     /// Length of one lap, metres.
     pub fn lap_length(&self) -> f64 {
         self.lengths.last().copied().unwrap_or(0.0)

@@ -11,6 +11,7 @@ use crate::noise::PixelRng;
 use crate::scenes::Scene;
 use crate::sensor::SensorModel;
 use crate::shading::{PixelReturn, Shading};
+use crate::Appearance;
 
 /// Everything needed to render frames of one configuration.
 #[derive(Debug)]
@@ -21,14 +22,17 @@ pub(crate) struct Renderer {
     pub beams: Arc<BeamGeometry>,
     /// `(cos, sin)` of each beam's elevation.
     altitudes: Vec<(f64, f64)>,
+    /// Signal gain of each beam (row): 1 for the ideal appearance.
+    beam_gains: Vec<f64>,
     /// Rays are cast this far (a bit past the max range, for the near-IR of far surfaces).
     cast_range: f32,
 }
 
 impl Renderer {
     /// A renderer for `sensor` with `shading`, noise seeded by `seed`.
-    pub fn new(sensor: SensorModel, shading: Shading, seed: u64) -> Self {
+    pub fn new(sensor: SensorModel, shading: Shading, seed: u64, look: Appearance) -> Self {
         let altitudes = sensor.altitude_table();
+        let beam_gains = look.beam_gains(sensor.rows);
         let beams = sensor.beam_geometry();
         let cast_range = (sensor.max_range_m * 1.2 + 1.0) as f32;
         Self {
@@ -37,6 +41,7 @@ impl Renderer {
             seed,
             beams,
             altitudes,
+            beam_gains,
             cast_range,
         }
     }
@@ -84,13 +89,16 @@ impl Renderer {
             .cast::<f32>();
         let t = pose.translation.vector.cast::<f32>();
         let origin = GVec::new(t.x, t.y, t.z);
-        for ((row, px), &(ca, sa)) in out.iter_mut().enumerate().zip(&self.altitudes) {
+        let beams = self.altitudes.iter().zip(&self.beam_gains);
+        for ((row, px), (&(ca, sa), &gain)) in out.iter_mut().enumerate().zip(beams) {
             let dir_s = Vector3::new(ca * caz, ca * saz, sa);
             let w = rot * dir_s.cast::<f32>();
             let dir_w = GVec::new(w.x, w.y, w.z).normalize();
             let hit = scene.world.cast(origin, dir_w, self.cast_range);
             let mut rng = PixelRng::for_pixel(self.seed, frame, row, col);
-            *px = self.shading.pixel(hit.as_ref(), &dir_s, dir_w, &mut rng);
+            *px = self
+                .shading
+                .pixel(hit.as_ref(), &dir_s, dir_w, gain, &mut rng);
         }
     }
 }

@@ -64,15 +64,29 @@ pub struct Shading {
     pub signal_gain: f64,
     /// Ambient light.
     pub ambient: Ambient,
+    /// Below about this range the signal of a real sensor falls short of `1/r²` (transmitter
+    /// and receiver see less of each other up close): the signal is scaled by
+    /// `r² / (r² + near_field_m²)` (0: not at all). Returns do not depend on it.
+    pub near_field_m: f64,
+    /// Variance of the signal over its mean (1: photon shot noise alone). A real sensor's
+    /// signal is far noisier: its counts sum many pulses, each with its own gain.
+    pub noise_factor: f64,
+    /// Weak returns are lost at random, as on dark and glossy surfaces: a pixel whose model
+    /// signal is `s` counts drops out with probability `1 / (1 + (s / dropout_counts)²)`
+    /// (0: never).
+    pub dropout_counts: f64,
 }
 
 impl Shading {
-    /// The pixel seen along `dir_sensor` (sensor frame) / `dir_world`, given what it hit.
+    /// The pixel seen along `dir_sensor` (sensor frame) / `dir_world`, given what it hit, by
+    /// a beam whose signal is `gain` times the model's. Whether it returns depends on the
+    /// model's signal, not the gain.
     pub fn pixel(
         &self,
         hit: Option<&Hit>,
         dir_sensor: &Vector3<f64>,
         dir_world: GVec,
+        gain: f64,
         rng: &mut PixelRng,
     ) -> PixelReturn {
         let Some(hit) = hit else {
@@ -86,11 +100,25 @@ impl Shading {
         let range = r_true + self.range_noise_m * rng.gaussian();
         let albedo = f64::from(hit.albedo);
         let cos_inc = f64::from(hit.normal.dot(dir_world).abs());
-        let mean = (self.signal_gain * albedo * cos_inc / (r_true * r_true + 0.25)).min(MAX_COUNT);
-        let signal = (mean + mean.sqrt() * rng.gaussian()).clamp(0.0, MAX_COUNT);
+        let model = self.signal_gain * albedo * cos_inc / (r_true * r_true + 0.25);
+        let shot = rng.gaussian();
+        let counts = |mean: f64| (mean + mean.sqrt() * shot).clamp(0.0, MAX_COUNT);
+        let model_signal = counts(model.min(MAX_COUNT));
+        let signal = if gain == 1.0 && self.near_field_m == 0.0 && self.noise_factor == 1.0 {
+            model_signal
+        } else {
+            let r2 = r_true * r_true;
+            let near = r2 / (r2 + self.near_field_m * self.near_field_m);
+            let mean = (gain * near * model).min(MAX_COUNT);
+            (mean + (self.noise_factor * mean).sqrt() * shot).clamp(0.0, MAX_COUNT)
+        };
         let refl_noise = 0.5 * rng.gaussian() / (signal + 1.0).sqrt();
-        let valid = signal >= MIN_SIGNAL && range >= self.min_range_m && range <= self.max_range_m;
-        if !valid {
+        let valid =
+            model_signal >= MIN_SIGNAL && range >= self.min_range_m && range <= self.max_range_m;
+        let dropped = valid
+            && self.dropout_counts > 0.0
+            && rng.uniform() < 1.0 / (1.0 + (model / self.dropout_counts).powi(2));
+        if !valid || dropped {
             return PixelReturn {
                 near_ir,
                 ..PixelReturn::default()
@@ -159,6 +187,9 @@ mod tests {
                 diffuse: 100.0,
                 sky: 300.0,
             },
+            near_field_m: 0.0,
+            noise_factor: 1.0,
+            dropout_counts: 0.0,
         }
     }
 
@@ -177,8 +208,8 @@ mod tests {
         let s = shading();
         let d = Vector3::x();
         let mut rng = PixelRng::for_pixel(0, 0, 0, 0);
-        let near = s.pixel(Some(&hit(5.0, 0.5)), &d, GVec::X, &mut rng);
-        let far = s.pixel(Some(&hit(20.0, 0.5)), &d, GVec::X, &mut rng);
+        let near = s.pixel(Some(&hit(5.0, 0.5)), &d, GVec::X, 1.0, &mut rng);
+        let far = s.pixel(Some(&hit(20.0, 0.5)), &d, GVec::X, 1.0, &mut rng);
         assert!(near.valid && far.valid);
         assert!(near.signal > 10.0 * far.signal);
         assert!(
@@ -199,10 +230,19 @@ mod tests {
         let s = shading();
         let d = Vector3::x();
         let mut rng = PixelRng::for_pixel(0, 0, 0, 1);
-        assert!(!s.pixel(Some(&hit(60.0, 0.05)), &d, GVec::X, &mut rng).valid);
-        assert!(!s.pixel(Some(&hit(0.2, 0.5)), &d, GVec::X, &mut rng).valid);
-        assert!(!s.pixel(Some(&hit(80.0, 1.0)), &d, GVec::X, &mut rng).valid);
-        let sky = s.pixel(None, &d, GVec::X, &mut rng);
+        assert!(
+            !s.pixel(Some(&hit(60.0, 0.05)), &d, GVec::X, 1.0, &mut rng)
+                .valid
+        );
+        assert!(
+            !s.pixel(Some(&hit(0.2, 0.5)), &d, GVec::X, 1.0, &mut rng)
+                .valid
+        );
+        assert!(
+            !s.pixel(Some(&hit(80.0, 1.0)), &d, GVec::X, 1.0, &mut rng)
+                .valid
+        );
+        let sky = s.pixel(None, &d, GVec::X, 1.0, &mut rng);
         assert!(!sky.valid && sky.range == 0.0 && sky.near_ir > 100.0);
     }
 }

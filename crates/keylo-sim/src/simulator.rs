@@ -27,7 +27,13 @@ impl Simulator {
     pub fn new(config: &SimConfig) -> Result<Self, SimError> {
         config.validate()?;
         let sensor = SensorModel::new(config.sensor, config.columns, config.max_range_override());
-        let scene = Scene::build(config.scene, config.seed, config.speed_scale)?;
+        let scene = Scene::build(
+            config.scene,
+            config.seed,
+            config.speed_scale,
+            config.sway_scale,
+            config.appearance,
+        )?;
         let rated = match config.sensor {
             SensorKind::Os0_128 => 35.0,
             SensorKind::Os1_64 => 45.0,
@@ -38,11 +44,14 @@ impl Simulator {
             max_range_m: sensor.max_range_m,
             signal_gain: signal_gain(rated),
             ambient: scene.ambient,
+            near_field_m: config.appearance.near_field_m(),
+            noise_factor: config.appearance.noise_factor(),
+            dropout_counts: config.appearance.dropout_counts(),
         };
         let mut sim = Self {
             config: config.clone(),
             scene,
-            renderer: Renderer::new(sensor, shading, config.seed),
+            renderer: Renderer::new(sensor, shading, config.seed, config.appearance),
             reference: Pose::identity(),
         };
         sim.reference = sim.pose_at(sim.gt_stamp(0)).inverse();

@@ -11,9 +11,9 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use keylo::features::image::{Normalise, NormaliseMethod};
-use keylo::kpeval::realism::Histograms;
-use keylo::kpeval::{evaluate, summarise, ComboSummary, EvalOptions, EvalSpec, Plane};
-use keylo::sim::Simulator;
+use keylo::kpeval::realism::{shifts, Histograms};
+use keylo::kpeval::{evaluate, summarise, ComboSummary, EvalOptions, EvalSpec, Plane, Quartiles};
+use keylo::sim::{SimConfig, Simulator};
 use keylo::{BuildContext, Channel};
 
 use crate::keypoints::eval::progress;
@@ -35,9 +35,13 @@ pub struct RealismArgs {
     /// Scene simulated: lab, corridor, road (see `keylo sim --help`).
     #[arg(long, default_value = "lab")]
     pub scene: String,
-    /// Simulated frames.
-    #[arg(long, default_value_t = 100)]
+    /// Simulated frames per seed.
+    #[arg(long, default_value_t = 25)]
     pub frames: usize,
+    /// Scene layouts simulated: seeds `seed`, `seed + 1`, … (each its own sequence; the
+    /// statistics pool them, so they do not rest on one random layout).
+    #[arg(long, default_value_t = 4)]
+    pub seeds: usize,
     /// Any other simulator parameter, e.g. --set seed=3.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
@@ -64,6 +68,10 @@ pub struct RealismArgs {
 pub struct ImageSet {
     pub name: String,
     pub histograms: Histograms,
+    /// Median horizontal shift between consecutive images, pixels.
+    pub shift: Option<f64>,
+    /// Sequences the images come from (simulated: one per seed).
+    pub sequences: usize,
     pub summaries: Vec<ComboSummary>,
 }
 
@@ -71,19 +79,32 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     let spec = EvalSpec::default();
     let real = real_planes(&args, &spec.image.normalise)?;
     let channels = channels(&args.channels)?;
-    let sim = Simulator::new(&crate::cmd_sim::sim_config(
-        &args.scene,
-        args.frames,
-        &args.sets,
-    )?)?;
-    if sim.len() < 2 {
+    if args.frames < 2 {
         bail!(
             "--frames {}: the match metrics need at least 2",
             args.frames
         );
     }
-    let mut inputs: Vec<(String, Vec<Plane>)> = vec![("real".into(), real)];
-    inputs.extend(sim_planes(&sim, &channels, args.signal_scale));
+    if args.seeds == 0 {
+        bail!("--seeds 0: expected at least 1");
+    }
+    let mut inputs: Vec<(String, Vec<Vec<Plane>>)> = vec![("real".into(), vec![real])];
+    let config = crate::cmd_sim::sim_config(&args.scene, args.frames, &args.sets)?;
+    for k in 0..args.seeds {
+        let seeded = SimConfig {
+            seed: config.seed + k as u64,
+            ..config.clone()
+        };
+        let sim = Simulator::new(&seeded)?;
+        let sets = sim_planes(&sim, &channels, args.signal_scale);
+        if inputs.len() == 1 {
+            inputs.extend(sets.into_iter().map(|(name, p)| (name, vec![p])));
+        } else {
+            for ((_, runs), (_, p)) in inputs.iter_mut().skip(1).zip(sets) {
+                runs.push(p);
+            }
+        }
+    }
     let registry = keylo::registry();
     let set = keylo::kpeval::ComboSet::parse(&args.combos);
     let combos = keylo::kpeval::parse_combos(&set, &registry).context("--combos")?;
@@ -95,7 +116,7 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
         .with_context(|| format!("creating {}", args.out.display()))?;
     let ctx = BuildContext::default();
     let mut sets = Vec::new();
-    for (name, planes) in inputs {
+    for (name, runs) in inputs {
         let bar = progress(quiet, &format!("{name:>18}"));
         let tick = |done: usize, total: usize| {
             bar.set_length(total as u64);
@@ -106,24 +127,32 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
             skip_unavailable: false,
             progress: Some(&tick),
         };
-        let result = evaluate(&planes, &combos, &spec, &registry, &ctx, &opts)
-            .with_context(|| format!("evaluating the {name} images"))?;
-        bar.finish_and_clear();
-        if let Some((combo, why)) = result.failed.first() {
-            bail!("{name} images: {combo} failed: {why}");
+        let (mut rows, mut moved) = (Vec::new(), Vec::new());
+        for planes in &runs {
+            let result = evaluate(planes, &combos, &spec, &registry, &ctx, &opts)
+                .with_context(|| format!("evaluating the {name} images"))?;
+            if let Some((combo, why)) = result.failed.first() {
+                bail!("{name} images: {combo} failed: {why}");
+            }
+            rows.extend(result.rows);
+            moved.extend(shifts(planes, &spec.image)?);
         }
+        bar.finish_and_clear();
         sets.push(ImageSet {
-            histograms: Histograms::of(&planes, &spec.image)?,
-            summaries: summarise(&result.rows),
+            histograms: Histograms::of(runs.iter().flatten(), &spec.image)?,
+            shift: Quartiles::of(&moved).map(|q| q.median),
+            sequences: runs.len(),
+            summaries: summarise(&rows),
             name,
         });
     }
     let heading = format!(
-        "`keylo sim realism --real {} --real-frames {} --scene {} --frames {}{}`",
+        "`keylo sim realism --real {} --real-frames {} --scene {} --frames {} --seeds {}{}`",
         args.real.display(),
         args.real_frames,
         args.scene,
         args.frames,
+        args.seeds,
         args.sets
             .iter()
             .map(|s| format!(" --set {s}"))

@@ -75,10 +75,12 @@ pub fn markdown(sets: &[ImageSet], heading: &str) -> String {
         return String::new();
     };
     let mut md = format!(
-        "# Simulated against real images\n\n{heading}\n\n{} real images, {} simulated frames \
-         per channel, all resized to 1024×64 (linear) as the keypoint study does.\n\n",
+        "# Simulated against real images\n\n{heading}\n\n{} real images; {} simulated frames \
+         per channel from {} layouts; all resized to 1024×64 (linear) as the keypoint study \
+         does.\n\n",
         real.histograms.images,
-        sim.first().map_or(0, |s| s.histograms.images)
+        sim.first().map_or(0, |s| s.histograms.images),
+        sim.first().map_or(0, |s| s.sequences)
     );
     goal(&mut md, real, sim);
     keypoint_table(&mut md, real, sim);
@@ -220,15 +222,18 @@ fn histogram_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
     md.push_str(
         "## Histograms\n\nMean over each set's resized images. EMD: earth mover's distance to \
          the real images' histogram (grey levels; gradient: grey levels per pixel of Sobel \
-         magnitude); Hellinger: 0 same, 1 disjoint.\n\n",
+         magnitude); Hellinger: 0 same, 1 disjoint. Shift: median horizontal shift between \
+         consecutive images (pixels at 1024×64, phase correlation) — the match metrics fall as \
+         it grows, so compare sets that move alike.\n\n",
     );
     md.push_str(
-        "| images | mean grey | intensity EMD | intensity Hellinger | mean gradient | \
-         gradient EMD | gradient Hellinger |\n|---|---|---|---|---|---|---|\n",
+        "| images | shift | mean grey | intensity EMD | intensity Hellinger | mean gradient | \
+         gradient EMD | gradient Hellinger |\n|---|---|---|---|---|---|---|---|\n",
     );
     let _ = writeln!(
         md,
-        "| real | {:.1} | – | – | {:.1} | – | – |",
+        "| real | {} | {:.1} | – | – | {:.1} | – | – |",
+        shift(real),
         real.histograms.mean_intensity(),
         real.histograms.mean_gradient()
     );
@@ -236,8 +241,9 @@ fn histogram_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
         let (i, g) = distances(real, s);
         let _ = writeln!(
             md,
-            "| {} | {:.1} | {:.1} | {:.3} | {:.1} | {:.1} | {:.3} |",
+            "| {} | {} | {:.1} | {:.1} | {:.3} | {:.1} | {:.1} | {:.3} |",
             s.name,
+            shift(s),
             s.histograms.mean_intensity(),
             i.emd,
             i.hellinger,
@@ -246,6 +252,10 @@ fn histogram_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
             g.hellinger
         );
     }
+}
+
+fn shift(set: &ImageSet) -> String {
+    set.shift.map_or_else(|| "–".into(), |s| format!("{s:.2}"))
 }
 
 fn quartiles_csv(sets: &[ImageSet]) -> String {
@@ -290,6 +300,7 @@ fn json(sets: &[ImageSet]) -> serde_json::Value {
                 "images": s.histograms.images,
                 "mean_intensity": s.histograms.mean_intensity(),
                 "mean_gradient": s.histograms.mean_gradient(),
+                "median_shift_px": s.shift,
                 "intensity_distance": d.map(|d| d.0),
                 "gradient_distance": d.map(|d| d.1),
                 "combos": s.summaries,

@@ -6,6 +6,7 @@ use super::{indoor_light, Ambient, SceneBuilder};
 use crate::motion::{Curve, Motion, Sway};
 use crate::texture::{Material, Pattern};
 use crate::world::Object;
+use crate::Appearance;
 
 /// Half extents of the room (x, y) and its height.
 const HALF_X: f32 = 7.0;
@@ -15,9 +16,13 @@ const HEIGHT: f32 = 3.0;
 const SPEED: f64 = 1.0;
 
 /// Builds the lab room, its furniture and the loop trajectory.
-pub(super) fn build(seed: u64, speed_scale: f64) -> (SceneBuilder, Motion, Ambient) {
+pub(super) fn build(
+    seed: u64,
+    speed_scale: f64,
+    look: Appearance,
+) -> (SceneBuilder, Motion, Ambient) {
     let mut b = SceneBuilder::new(seed, 1, 0.5);
-    room(&mut b);
+    room(&mut b, look);
     for side in [-1.0f32, 1.0] {
         long_wall_furniture(&mut b, side);
         end_wall_furniture(&mut b, side);
@@ -39,19 +44,31 @@ pub(super) fn build(seed: u64, speed_scale: f64) -> (SceneBuilder, Motion, Ambie
         b: bb,
     };
     let motion = Motion::new(curve, SPEED * speed_scale, 1.2, sway);
+    if look == Appearance::Ouster {
+        clutter(&mut b);
+    }
     (b, motion, indoor_light())
 }
 
 /// Floor, ceiling and four walls (0.2 m thick, outside the free volume).
-fn room(b: &mut SceneBuilder) {
+fn room(b: &mut SceneBuilder, look: Appearance) {
     let (x, y, t) = (HALF_X, HALF_Y, 0.2);
-    let floor = b.material(Pattern::Tiles { cell: 0.6 }, 0.3, 0.5);
+    // A real hall's floor is one material, not a checkerboard (same random draws).
+    let (floor_pattern, lo, hi) = match look {
+        Appearance::Ideal => (Pattern::Tiles { cell: 0.6 }, 0.3, 0.5),
+        Appearance::Ouster => (Pattern::Plain, 0.12, 0.2),
+    };
+    let floor = b.material(floor_pattern, lo, hi);
     b.structure(Object::aabb_box(
         [-x - t, -y - t, -t],
         [x + t, y + t, 0.0],
         floor,
     ));
-    let ceiling = b.material(Pattern::Tiles { cell: 1.2 }, 0.6, 0.8);
+    let (ceiling_pattern, lo, hi) = match look {
+        Appearance::Ideal => (Pattern::Tiles { cell: 1.2 }, 0.6, 0.8),
+        Appearance::Ouster => (Pattern::Plain, 0.25, 0.35),
+    };
+    let ceiling = b.material(ceiling_pattern, lo, hi);
     let top = HEIGHT;
     b.structure(Object::aabb_box(
         [-x - t, -y - t, top],
@@ -66,6 +83,11 @@ fn room(b: &mut SceneBuilder) {
     ];
     for (lo, hi) in walls {
         let p = b.wall_pattern();
+        // Painted walls (the pattern is still drawn, so the layout keeps its random draws).
+        let p = match look {
+            Appearance::Ideal => p,
+            Appearance::Ouster => Pattern::Plain,
+        };
         let m = b.material(p, 0.4, 0.8);
         b.structure(Object::aabb_box(lo, hi, m));
     }
@@ -221,4 +243,155 @@ fn box_stack(b: &mut SceneBuilder, cx: f32, cy: f32, size: f32) {
         z += h;
         s *= b.rng.random_range(0.6..0.95);
     }
+}
+
+/// What a real hall holds besides the big furniture (the `ouster` appearance): ceiling lights,
+/// doors, chairs and small things on the floor along the walls — the small, high-contrast
+/// shapes that give real signal images most of their corners.
+fn clutter(b: &mut SceneBuilder) {
+    ceiling_lights(b);
+    for _ in 0..DARK_ITEMS {
+        let (cx, cy) = wall_band(b);
+        let m = b.material(Pattern::Plain, 0.02, 0.05);
+        let (w, d, h) = (
+            b.rng.random_range(0.5..1.4f32),
+            b.rng.random_range(0.4..0.8f32),
+            b.rng.random_range(0.4..1.2f32),
+        );
+        let yaw = b.rng.random_range(-0.3..0.3);
+        b.prop(Object::cuboid(
+            [cx, cy, 0.5 * h],
+            [0.5 * w, 0.5 * d, 0.5 * h],
+            yaw,
+            m,
+        ));
+    }
+    for _ in 0..WALL_ITEMS {
+        wall_item(b);
+    }
+    for side in [-1.0f32, 1.0] {
+        door(b, side);
+    }
+    for _ in 0..CHAIRS {
+        let (cx, cy) = wall_band(b);
+        chair(b, cx, cy);
+    }
+    for _ in 0..FLOOR_ITEMS {
+        let (cx, cy) = wall_band(b);
+        let m = b.material(Pattern::Plain, 0.15, 0.6);
+        let s = b.rng.random_range(0.12..0.45f32);
+        let h = s * b.rng.random_range(0.4..1.2f32);
+        let yaw = b.rng.random_range(0.0..1.5);
+        b.prop(Object::cuboid(
+            [cx, cy, 0.5 * h],
+            [0.5 * s, 0.5 * s, 0.5 * h],
+            yaw,
+            m,
+        ));
+    }
+    for _ in 0..POLES {
+        let (cx, cy) = wall_band(b);
+        let m = b.material(Pattern::Plain, 0.1, 0.8);
+        let h = b.rng.random_range(1.0..1.9f32);
+        b.prop(Object::cylinder([cx, cy, 0.0], 0.02, h, m));
+    }
+}
+
+/// Clutter counts of the `ouster` lab.
+const CHAIRS: usize = 64;
+const FLOOR_ITEMS: usize = 110;
+const POLES: usize = 32;
+const WALL_ITEMS: usize = 100;
+/// Black furniture and equipment: weak, broken returns.
+const DARK_ITEMS: usize = 8;
+
+/// A sign, switch box or notice on one of the four walls, 0.8–2.2 m up.
+fn wall_item(b: &mut SceneBuilder) {
+    let m = b.material(Pattern::Plain, 0.2, 0.7);
+    let (w, h) = (
+        b.rng.random_range(0.1..0.6f32),
+        b.rng.random_range(0.1..0.5f32),
+    );
+    let z = b.rng.random_range(0.8..2.2f32);
+    let depth = 0.03;
+    if b.rng.random_bool(0.6) {
+        let x = b.rng.random_range(-HALF_X + 0.5..HALF_X - 0.5);
+        let y = if b.rng.random_bool(0.5) {
+            HALF_Y - depth
+        } else {
+            -HALF_Y
+        };
+        b.structure(Object::aabb_box([x, y, z], [x + w, y + depth, z + h], m));
+    } else {
+        let y = b.rng.random_range(-HALF_Y + 0.5..HALF_Y - 0.5);
+        let x = if b.rng.random_bool(0.5) {
+            HALF_X - depth
+        } else {
+            -HALF_X
+        };
+        b.structure(Object::aabb_box([x, y, z], [x + depth, y + w, z + h], m));
+    }
+}
+
+/// A point in the band between the loop and the walls.
+fn wall_band(b: &mut SceneBuilder) -> (f32, f32) {
+    if b.rng.random_bool(0.7) {
+        let x = b.rng.random_range(-HALF_X + 0.5..HALF_X - 0.5);
+        let y = b.rng.random_range(HALF_Y - 1.3..HALF_Y - 0.6);
+        (x, if b.rng.random_bool(0.5) { y } else { -y })
+    } else {
+        let y = b.rng.random_range(-HALF_Y + 0.6..HALF_Y - 0.6);
+        let x = b.rng.random_range(HALF_X - 1.6..HALF_X - 0.9);
+        (if b.rng.random_bool(0.5) { x } else { -x }, y)
+    }
+}
+
+/// Bright light panels just below the ceiling on a 2.4 m grid.
+fn ceiling_lights(b: &mut SceneBuilder) {
+    let m = b.material(Pattern::Plain, 0.85, 0.95);
+    let mut x = -HALF_X + 1.2;
+    while x < HALF_X - 0.6 {
+        let mut y = -HALF_Y + 1.0;
+        while y < HALF_Y - 0.5 {
+            b.structure(Object::aabb_box(
+                [x - 0.3, y - 0.6, HEIGHT - 0.04],
+                [x + 0.3, y + 0.6, HEIGHT],
+                m,
+            ));
+            y += 2.4;
+        }
+        x += 2.4;
+    }
+}
+
+/// A dark door (and its lighter frame) in the wall at `x = side · HALF_X`.
+fn door(b: &mut SceneBuilder, side: f32) {
+    let y = b.rng.random_range(-HALF_Y + 1.0..HALF_Y - 2.0);
+    let frame = b.material(Pattern::Plain, 0.6, 0.8);
+    let leaf = b.material(Pattern::Plain, 0.05, 0.15);
+    let x = side * HALF_X;
+    let inward = -side * 0.04;
+    let (lo, hi) = (x.min(x + inward), x.max(x + inward));
+    b.structure(Object::aabb_box(
+        [lo, y - 0.1, 0.0],
+        [hi, y + 1.1, 2.2],
+        frame,
+    ));
+    let (lo, hi) = (x.min(x + 1.5 * inward), x.max(x + 1.5 * inward));
+    b.structure(Object::aabb_box([lo, y, 0.0], [hi, y + 1.0, 2.1], leaf));
+}
+
+/// A chair at `(cx, cy)`: four legs, a seat and a back, turned at random.
+fn chair(b: &mut SceneBuilder, cx: f32, cy: f32) {
+    let m = b.material(Pattern::Plain, 0.15, 0.5);
+    let yaw = b.rng.random_range(0.0..std::f32::consts::TAU);
+    let (s, c) = yaw.sin_cos();
+    let at = |dx: f32, dy: f32| [cx + c * dx - s * dy, cy + s * dx + c * dy];
+    for (dx, dy) in [(-0.2, -0.2), (-0.2, 0.2), (0.2, -0.2), (0.2, 0.2)] {
+        let [x, y] = at(dx, dy);
+        b.prop(Object::cylinder([x, y, 0.0], 0.015, 0.45, m));
+    }
+    b.prop(Object::cuboid([cx, cy, 0.46], [0.23, 0.23, 0.02], yaw, m));
+    let [x, y] = at(-0.21, 0.0);
+    b.prop(Object::cuboid([x, y, 0.7], [0.02, 0.22, 0.22], yaw, m));
 }

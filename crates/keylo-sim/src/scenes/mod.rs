@@ -9,7 +9,7 @@ use parry3d::math::Vector as GVec;
 
 use crate::motion::Motion;
 use crate::world::World;
-use crate::{SceneKind, SimError};
+use crate::{Appearance, SceneKind, SimError};
 
 pub(crate) use builder::SceneBuilder;
 
@@ -41,11 +41,22 @@ pub struct Scene {
 
 impl Scene {
     /// Builds `kind` from `seed`, the sensor moving at `speed_scale` × the nominal speed.
-    pub fn build(kind: SceneKind, seed: u64, speed_scale: f64) -> Result<Self, SimError> {
+    pub fn build(
+        kind: SceneKind,
+        seed: u64,
+        speed_scale: f64,
+        sway_scale: f64,
+        look: Appearance,
+    ) -> Result<Self, SimError> {
         let (builder, motion, ambient) = match kind {
-            SceneKind::Lab => lab::build(seed, speed_scale),
+            SceneKind::Lab => lab::build(seed, speed_scale, look),
             SceneKind::Corridor => corridor::build(seed, speed_scale),
             SceneKind::Road => road::build(seed, speed_scale),
+        };
+        let motion = if sway_scale == 1.0 {
+            motion
+        } else {
+            motion.with_sway_scaled(sway_scale)
         };
         let world = builder.finish(kind.name(), &motion)?;
         Ok(Self {
@@ -74,7 +85,7 @@ mod tests {
     #[test]
     fn every_scene_builds_and_keeps_the_path_clear() {
         for kind in [SceneKind::Lab, SceneKind::Corridor, SceneKind::Road] {
-            let s = Scene::build(kind, 5, 1.0).unwrap();
+            let s = Scene::build(kind, 5, 1.0, 1.0, Appearance::Ideal).unwrap();
             assert!(s.world.objects().len() > 20, "{kind:?}");
             let lap = s.motion.lap_length();
             let n = 400;
@@ -89,10 +100,10 @@ mod tests {
 
     #[test]
     fn seeds_change_the_layout() {
-        let a = Scene::build(SceneKind::Lab, 1, 1.0).unwrap();
-        let b = Scene::build(SceneKind::Lab, 2, 1.0).unwrap();
+        let a = Scene::build(SceneKind::Lab, 1, 1.0, 1.0, Appearance::Ideal).unwrap();
+        let b = Scene::build(SceneKind::Lab, 2, 1.0, 1.0, Appearance::Ideal).unwrap();
         assert_ne!(a.world.objects(), b.world.objects());
-        let c = Scene::build(SceneKind::Lab, 1, 1.0).unwrap();
+        let c = Scene::build(SceneKind::Lab, 1, 1.0, 1.0, Appearance::Ideal).unwrap();
         assert_eq!(a.world.objects(), c.world.objects());
     }
 }
