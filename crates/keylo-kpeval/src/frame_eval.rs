@@ -8,7 +8,10 @@ use keylo_features::matching::{cross_checked, homography_inliers, knn_ratio};
 
 use crate::stages::{Describer, Group};
 use crate::transforms::{blur, rotate, scale};
-use crate::{repeatability, KpEvalError, MetricParams, Row, ScalingHomography};
+use crate::{
+    repeatability, Definitions, KpEvalError, MetricParams, Row, ScalingHomography,
+    SUPERPOINT_MATCH_DISTANCE,
+};
 
 /// What a combination keeps of the previous image.
 #[derive(Default)]
@@ -54,10 +57,15 @@ fn detect_all(
     let keypoints = group.detector.detect(image).map_err(&err)?;
     let detect_ms = ms(start);
     let r = p.repeat_px;
-    let rotated = rotate(image, p.rotation_deg)?;
+    let defs = group.definitions;
+    let rotated = rotate(image, p.rotation_deg, defs)?;
     let found = group.detector.detect(&rotated.image).map_err(&err)?;
     let rotation = repeatability(&keypoints, &found, &rotated.h, r);
-    let scaled = scale(image, p.scale, ScalingHomography::Paper)?;
+    let paper_scaling = match defs {
+        Definitions::Program => ScalingHomography::Paper,
+        Definitions::SuperPointScript => ScalingHomography::Plain,
+    };
+    let scaled = scale(image, p.scale, paper_scaling)?;
     let corrected = crate::transforms::scaling_homography(
         ScalingHomography::Corrected,
         p.scale,
@@ -95,18 +103,31 @@ fn pair(
     prev: &(Vec<Keypoint>, Descriptors),
     cur: &(Vec<Keypoint>, Descriptors),
     p: &MetricParams,
+    defs: Definitions,
 ) -> Result<Pairing, KpEvalError> {
     let start = Instant::now();
     let mut matches = cross_checked(&prev.1, &cur.1, p.cross_check)?;
     let match_ms = ms(start);
-    if p.max_match_distance > 0.0 {
-        matches.retain(|m| f64::from(m.distance) <= p.max_match_distance);
+    match defs {
+        Definitions::SuperPointScript if p.max_match_distance == 0.0 => {
+            matches.retain(|m| f64::from(m.distance) < SUPERPOINT_MATCH_DISTANCE);
+        }
+        _ if p.max_match_distance > 0.0 => {
+            matches.retain(|m| f64::from(m.distance) <= p.max_match_distance);
+        }
+        _ => {}
     }
     let inliers = homography_inliers(&prev.0, &cur.0, &matches, p.ransac_px)?
         .iter()
         .filter(|b| **b)
         .count();
-    let (passed, knn_total) = knn_ratio(&prev.1, &cur.1, p.ratio as f32)?;
+    // The C++ program queries with the previous image's descriptors, the SuperPoint script
+    // with the current one's.
+    let (query, train) = match defs {
+        Definitions::Program => (&prev.1, &cur.1),
+        Definitions::SuperPointScript => (&cur.1, &prev.1),
+    };
+    let (passed, knn_total) = knn_ratio(query, train, p.ratio as f32)?;
     let n = matches.len();
     Ok(Pairing {
         match_ms,
@@ -171,7 +192,7 @@ pub fn evaluate_image(
         };
         let current = (keypoints, descriptors);
         let pairing = match &state.previous[ci].features {
-            Some(prev) => Some(pair(prev, &current, p)?),
+            Some(prev) => Some(pair(prev, &current, p, group.definitions)?),
             None => None,
         };
         rows.push(Row {

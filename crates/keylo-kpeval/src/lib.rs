@@ -34,7 +34,7 @@ mod transforms;
 
 pub use combos::{parse_combos, Combo, ComboSet};
 pub use error::KpEvalError;
-pub use params::{MetricParams, ScalingHomography};
+pub use params::{Definitions, MetricParams, ScalingHomography, SUPERPOINT_MATCH_DISTANCE};
 pub use plane::Plane;
 pub use record::{csv_columns, Row, CSV_HEADER};
 pub use repeat::repeatability;

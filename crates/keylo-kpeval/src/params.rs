@@ -13,7 +13,25 @@ pub enum ScalingHomography {
     Paper,
     /// What `resize` does to pixel centres: `x' = s·x + (s−1)/2`.
     Corrected,
+    /// `diag(s, s, 1)`: the authors' SuperPoint script (no offset at all).
+    Plain,
 }
+
+/// Whose definitions of the metrics a combination follows when evaluated "as the authors
+/// compute it" (the `paper` preset).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Definitions {
+    /// The authors' C++ program (`perfermance_comparison.cpp`): every OpenCV combination.
+    Program,
+    /// Their Python script for SuperPoint (`superpoint_evaluation.py`): the rotated canvas
+    /// truncated to whole pixels, the scaling homography `diag(s, s, 1)`, matches kept below
+    /// descriptor distance 0.7, and distinctiveness over the current image's descriptors
+    /// (the kNN queries run from the current image into the previous one).
+    SuperPointScript,
+}
+
+/// Descriptor distance below which the authors' SuperPoint script keeps a match.
+pub const SUPERPOINT_MATCH_DISTANCE: f64 = 0.7;
 
 /// `[metrics]` of a keypoint evaluation.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]

@@ -4,7 +4,7 @@
 use keylo_core::registry::Factory;
 use keylo_core::{BuildContext, ConfigError, CoreError, Descriptor, Detector, Registry};
 
-use crate::{Combo, EvalSpec, KpEvalError};
+use crate::{Combo, Definitions, EvalSpec, KpEvalError, Preset};
 
 /// How a combination gets its descriptors.
 pub enum Describer {
@@ -23,6 +23,18 @@ pub struct Group {
     pub detector_name: String,
     pub detector: Box<dyn Detector>,
     pub combos: Vec<(Combo, Describer)>,
+    /// Whose metric definitions the group follows.
+    pub definitions: Definitions,
+}
+
+/// The authors' SuperPoint script for SuperPoint under the `paper` preset, their C++
+/// program otherwise.
+fn definitions(detector_kind: &str, preset: Preset) -> Definitions {
+    if preset == Preset::Paper && detector_kind == "superpoint" {
+        Definitions::SuperPointScript
+    } else {
+        Definitions::Program
+    }
 }
 
 /// The combinations that could not be built, with the reason.
@@ -103,6 +115,7 @@ pub fn build_groups(
                             detector_name: combo.detector_name(),
                             detector,
                             combos: Vec::new(),
+                            definitions: definitions(&combo.detector, spec.preset),
                         });
                         groups.len() - 1
                     }

@@ -8,7 +8,7 @@ use keylo_features::FeaturesError;
 use opencv::core::{Mat, Size, BORDER_CONSTANT, BORDER_DEFAULT};
 use opencv::prelude::*;
 
-use crate::{KpEvalError, ScalingHomography};
+use crate::{Definitions, KpEvalError, ScalingHomography};
 
 /// A 2-D homography, row-major 3×3.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,11 +63,18 @@ fn size(w: f64, h: f64) -> Size {
 /// outside). The box is OpenCV's `RotatedRect(…).boundingRect2f()`, computed in `f32` as
 /// OpenCV does: the authors shift the rotation by half its growth (a fraction of a pixel
 /// that moves every sample of the rotated image) and size the canvas by rounding it.
-pub fn rotate(image: &Image, degrees: f64) -> Result<Transformed, KpEvalError> {
+pub fn rotate(image: &Image, degrees: f64, defs: Definitions) -> Result<Transformed, KpEvalError> {
     let (w, h) = (image.width as f64, image.height as f64);
     let (cx, cy) = (w / 2.0, h / 2.0);
     let (sin, cos) = degrees.to_radians().sin_cos();
-    let (box_w, box_h) = bounding_box_f32(image.width as f32, image.height as f32, degrees);
+    let (box_w, box_h) = match defs {
+        Definitions::Program => bounding_box_f32(image.width as f32, image.height as f32, degrees),
+        // `int(h·|sin| + w·|cos|)`, `int(h·|cos| + w·|sin|)` in f64, as the script computes.
+        Definitions::SuperPointScript => (
+            (h * sin.abs() + w * cos.abs()).trunc() as f32,
+            (h * cos.abs() + w * sin.abs()).trunc() as f32,
+        ),
+    };
     // getRotationMatrix2D(centre, degrees, 1), then shifted by half the box's growth.
     let m = [
         cos,
@@ -147,6 +154,7 @@ pub fn scaling_homography(
             (factor - 1.0) * rows as f64 / 2.0,
         ),
         ScalingHomography::Corrected => ((factor - 1.0) / 2.0, (factor - 1.0) / 2.0),
+        ScalingHomography::Plain => (0.0, 0.0),
     };
     Homography([factor, 0.0, tx, 0.0, factor, ty, 0.0, 0.0, 1.0])
 }
@@ -206,13 +214,23 @@ mod tests {
     #[test]
     fn rotation_maps_a_dot_where_its_homography_says_on_an_enlarged_canvas() {
         let img = dot(100, 20, 80, 5);
-        let t = rotate(&img, 45.0).unwrap();
+        let t = rotate(&img, 45.0, Definitions::Program).unwrap();
         // 100·cos45 + 20·sin45 = 84.85, rounded as OpenCV turns the box into a size
         assert_eq!((t.image.width, t.image.height), (85, 85)); // OpenCV rounds the box
         let (x, y) = t.h.map(80.0, 5.0);
         let (cx, cy) = centroid(&t.image);
         assert_abs_diff_eq!(x, cx, epsilon = 0.6);
         assert_abs_diff_eq!(y, cy, epsilon = 0.6);
+        // The SuperPoint script truncates the canvas and centres the image on it.
+        let t = rotate(&img, 45.0, Definitions::SuperPointScript).unwrap();
+        assert_eq!((t.image.width, t.image.height), (84, 84));
+        let (x, y) = t.h.map(80.0, 5.0);
+        let (cx, cy) = centroid(&t.image);
+        assert_abs_diff_eq!(x, cx, epsilon = 0.6);
+        assert_abs_diff_eq!(y, cy, epsilon = 0.6);
+        let (mx, my) = t.h.map(50.0, 10.0);
+        assert_abs_diff_eq!(mx, 42.0, epsilon = 1e-9);
+        assert_abs_diff_eq!(my, 42.0, epsilon = 1e-9);
     }
 
     #[test]
@@ -228,6 +246,8 @@ mod tests {
         let (px, py) = paper.map(40.0, 6.0);
         assert_abs_diff_eq!(px, 80.0 + 32.0);
         assert_abs_diff_eq!(py, 12.0 + 8.0);
+        let plain = scaling_homography(ScalingHomography::Plain, 2.0, 64, 16);
+        assert_eq!(plain.map(40.0, 6.0), (80.0, 12.0));
     }
 
     #[test]
