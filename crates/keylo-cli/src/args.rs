@@ -119,6 +119,11 @@ pub struct CompareArgs {
     /// Print the planned runs (folder and --set overrides) and stop.
     #[arg(long)]
     pub dry_run: bool,
+    /// Same-budget baselines: every keypoint config (downsampler `keypoint-neighbourhood`)
+    /// also runs with its keypoint windows replaced by a `random` and by a `voxel-budget`
+    /// sample of as many points per frame as the windows select.
+    #[arg(long)]
+    pub same_budget: bool,
     /// No plots.
     #[arg(long)]
     pub no_plots: bool,

@@ -407,3 +407,47 @@ fn a_run_past_the_timeout_is_stopped_its_frames_kept_and_rerun_on_resume() {
     assert_eq!(runs[0]["resumed"], true, "{json}");
     assert_eq!(runs[1]["resumed"], false, "{json}");
 }
+
+#[test]
+fn same_budget_adds_random_and_voxel_baselines_with_the_keypoint_point_count() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("lab");
+    small_sim(&data, 5);
+    let out = tmp.path().join("cmp");
+    let o = keylo(
+        &[
+            "compare",
+            &config("paper/raw-kiss-icp.toml"),
+            &config("paper/indoor-akaze-kiss-icp.toml"),
+            "--data",
+            data.to_str().unwrap(),
+            "--same-budget",
+            "--out",
+            out.to_str().unwrap(),
+            "--no-plots",
+            "-q",
+        ],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json = read_json(&out.join("compare.json"));
+    let rows = json["runs"].as_array().unwrap();
+    let find = |variant: &str| {
+        rows.iter()
+            .find(|r| r["variant"] == variant)
+            .unwrap_or_else(|| panic!("no row {variant}: {json}"))
+    };
+    // The raw config has no keypoint windows: it runs once, without baselines.
+    assert_eq!(rows.len(), 4, "{json}");
+    let _ = find("raw-kiss-icp");
+    let keypoints = find("indoor-akaze-kiss-icp");
+    let random = find("indoor-akaze-kiss-icp +random");
+    let voxel = find("indoor-akaze-kiss-icp +voxel-budget");
+    assert_eq!(random["downsampler"], "random");
+    assert_eq!(voxel["downsampler"], "voxel-budget");
+    let points = |r: &serde_json::Value| r["mean_points"].as_f64().unwrap();
+    assert!(points(keypoints) > 0.0);
+    // `random` keeps exactly the windows' count each frame; `voxel-budget` at most that many.
+    assert_eq!(points(random), points(keypoints));
+    assert!(points(voxel) <= points(keypoints) && points(voxel) > 0.8 * points(keypoints));
+}

@@ -8,6 +8,7 @@
 //! * [`tables`]: Markdown, CSV, JSON.
 //! * [`plots`]: PNG + SVG figures.
 
+mod budget;
 mod child;
 mod error;
 mod grid;
@@ -136,16 +137,21 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
             axes,
             &windows,
         );
-        per_config.push((config, windows, rejected));
+        let flavours = if args.same_budget {
+            budget::flavours(&base.downsampler)
+        } else {
+            vec![budget::Flavour::default()]
+        };
+        per_config.push((config, windows, rejected, flavours));
     }
     for (i, a) in axes.iter().enumerate() {
         if per_config
             .iter()
-            .all(|(_, _, r)| r.iter().any(|(j, _)| *j == i))
+            .all(|(_, _, r, _)| r.iter().any(|(j, _)| *j == i))
         {
             let why = per_config
                 .iter()
-                .filter_map(|(_, _, r)| r.iter().find(|(j, _)| *j == i).map(|(_, m)| m.clone()))
+                .filter_map(|(_, _, r, _)| r.iter().find(|(j, _)| *j == i).map(|(_, m)| m.clone()))
                 .collect::<Vec<_>>()
                 .join("; ");
             return Err(CompareError::BadGrid {
@@ -157,7 +163,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
     }
     let data_labels = labels(&args.data);
     let mut plans = Vec::new();
-    for (config, windows, rejected) in &per_config {
+    for (config, windows, rejected, flavours) in &per_config {
         let kept: Vec<grid::Axis> = axes
             .iter()
             .enumerate()
@@ -169,11 +175,17 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
                 eprintln!("note: grid axis left out (this config runs once without it): {why}");
             }
         }
-        let stem = config_stem(config.as_deref());
-        for point in grid::expand(&kept)? {
+        let many = configs.len() > 1 || flavours.len() > 1;
+        let points = grid::expand(&kept)?;
+        for (flavour, point) in flavours
+            .iter()
+            .flat_map(|f| points.iter().map(move |p| (f, p)))
+        {
+            let stem = format!("{}{}", config_stem(config.as_deref()), flavour.suffix);
             let mut sets = args.sets.clone();
-            sets.extend(grid::set_strings(&point, windows));
-            let variant = variant_label(&stem, &grid::label(&point, windows), configs.len() > 1);
+            sets.extend(flavour.sets.iter().cloned());
+            sets.extend(grid::set_strings(point, windows));
+            let variant = variant_label(&stem, &grid::label(point, windows), many);
             for (data, data_label) in args.data.iter().zip(&data_labels) {
                 configs::load(&mut registry, config.as_deref(), Some(data), None, &sets)
                     .with_context(|| format!("configuration {variant} on {data_label}"))?;
