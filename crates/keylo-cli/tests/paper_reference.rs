@@ -31,21 +31,32 @@ const HELD: [&str; 6] = [
     "keypoints",
 ];
 
-#[test]
-fn the_authors_per_image_results_are_reproduced_on_their_images() {
+/// The authors' images and per-image results, or None (with a message) where absent.
+fn inputs() -> Option<(PathBuf, PathBuf)> {
     let (images, per_image) = (
         shared().join("data/tiers_signal"),
         shared().join("paper/per-image"),
     );
-    if !images.is_dir() || !per_image.is_dir() {
-        eprintln!(
-            "skipped: {} or {} is absent (the paper's images and results live beside the \
-             repository, in ../shared)",
-            images.display(),
-            per_image.display()
-        );
-        return;
+    if images.is_dir() && per_image.is_dir() {
+        return Some((images, per_image));
     }
+    eprintln!(
+        "skipped: {} or {} is absent (the paper's images and results live beside the \
+         repository, in ../shared)",
+        images.display(),
+        per_image.display()
+    );
+    None
+}
+
+/// `keylo keypoints eval --reference` on the first `frames` images: reference.csv's rows
+/// (column → value) and reference.md.
+fn evaluate(
+    frames: &str,
+    combos: &str,
+    jobs: &str,
+) -> Option<(Vec<HashMap<String, String>>, String)> {
+    let (images, per_image) = inputs()?;
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("eval");
     let o = keylo(
@@ -55,14 +66,16 @@ fn the_authors_per_image_results_are_reproduced_on_their_images() {
             "--data",
             images.to_str().unwrap(),
             "--frames",
-            "21",
+            frames,
             "--combos",
-            COMBOS,
+            combos,
             "--reference",
             per_image.to_str().unwrap(),
             "--out",
             out.to_str().unwrap(),
             "--no-plots",
+            "--jobs",
+            jobs,
             "-q",
         ],
         tmp.path(),
@@ -70,13 +83,33 @@ fn the_authors_per_image_results_are_reproduced_on_their_images() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(out.join("reference.csv")).unwrap();
     let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let rows: Vec<HashMap<&str, &str>> = lines
-        .map(|l| header.iter().copied().zip(l.split(',')).collect())
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(String::from))
+                .collect()
+        })
         .collect();
+    Some((
+        rows,
+        std::fs::read_to_string(out.join("reference.md")).unwrap(),
+    ))
+}
+
+#[test]
+fn the_authors_per_image_results_are_reproduced_on_their_images() {
+    let jobs = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .to_string();
+    let Some((rows, md)) = evaluate("21", COMBOS, &jobs) else {
+        return;
+    };
     let combos: Vec<&str> = COMBOS.split(',').collect();
     for combo in &combos {
-        let mine: Vec<&HashMap<&str, &str>> =
+        let mine: Vec<&HashMap<String, String>> =
             rows.iter().filter(|r| r["combo"] == *combo).collect();
         assert!(!mine.is_empty(), "{combo} is missing from reference.csv");
         // Images 1–20: the authors have no row for image 0 (it has no previous image).
@@ -112,7 +145,6 @@ fn the_authors_per_image_results_are_reproduced_on_their_images() {
             "{combo}: rotation robustness the same on {share}"
         );
     }
-    let md = std::fs::read_to_string(out.join("reference.md")).unwrap();
     assert!(md.contains("| AKAZE_AKAZE | 20 | 100.0 % |"), "{md}");
 }
 
@@ -121,56 +153,19 @@ fn the_authors_per_image_results_are_reproduced_on_their_images() {
 /// ~0.79 on scaling; with the C++ program's homography it scored 0.045.
 #[test]
 fn superpoint_follows_the_authors_superpoint_script() {
-    let (images, per_image) = (
-        shared().join("data/tiers_signal"),
-        shared().join("paper/per-image"),
-    );
     let ort = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../.cache/onnxruntime");
-    if !images.is_dir() || !per_image.is_dir() || !ort.is_dir() {
+    if !ort.is_dir() {
         eprintln!(
-            "skipped: {}, {} or {} is absent (../shared beside the repository; ONNX Runtime \
-             from scripts/setup.sh)",
-            images.display(),
-            per_image.display(),
+            "skipped: {} is absent (scripts/setup.sh fetches it)",
             ort.display()
         );
         return;
     }
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("eval");
-    let o = keylo(
-        &[
-            "keypoints",
-            "eval",
-            "--data",
-            images.to_str().unwrap(),
-            "--frames",
-            "11",
-            "--combos",
-            "SUPERPOINT",
-            "--reference",
-            per_image.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--no-plots",
-            "--jobs",
-            "1",
-            "-q",
-        ],
-        tmp.path(),
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let text = std::fs::read_to_string(out.join("reference.csv")).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let scaling: HashMap<&str, &str> = lines
-        .map(|l| {
-            header
-                .iter()
-                .copied()
-                .zip(l.split(','))
-                .collect::<HashMap<_, _>>()
-        })
+    let Some((rows, _)) = evaluate("11", "SUPERPOINT", "1") else {
+        return;
+    };
+    let scaling = rows
+        .iter()
         .find(|r| r["metric"] == "robustness_scaling")
         .expect("a robustness_scaling row");
     let (ours, theirs): (f64, f64) = (

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use keylo::kpeval::realism::{distance, Distance, GRADIENT_BIN_WIDTH};
-use keylo::kpeval::{ComboSummary, Quartiles};
+use keylo::kpeval::Quartiles;
 
 use super::ImageSet;
 
@@ -44,12 +44,6 @@ fn quartiles<'a>(set: &'a ImageSet, combo: &str, metric: &str) -> Option<&'a Qua
         .and_then(|s| s.get(metric))
 }
 
-/// The combinations of the real set, in its order.
-fn combos(sets: &[ImageSet]) -> Vec<&ComboSummary> {
-    sets.first()
-        .map_or(Vec::new(), |s| s.summaries.iter().collect())
-}
-
 /// Whether `q`'s median lies in the real interquartile range.
 fn inside(real: &Quartiles, q: &Quartiles) -> bool {
     q.median >= real.q1 && q.median <= real.q3
@@ -84,8 +78,20 @@ pub fn markdown(sets: &[ImageSet], heading: &str) -> String {
     );
     goal(&mut md, real, sim);
     keypoint_table(&mut md, real, sim);
-    match_table(&mut md, real, sim);
-    other_table(&mut md, real, sim);
+    median_table(
+        &mut md,
+        "## Match ratio and match score\n\nMedian; ✓: within 0.1 of the real median.\n\n",
+        &["match_ratio", "match_score"],
+        Some(close),
+        (real, sim),
+    );
+    median_table(
+        &mut md,
+        "## The other metrics\n\nMedians.\n\n",
+        OTHER_METRICS,
+        None,
+        (real, sim),
+    );
     histogram_table(&mut md, real, sim);
     md
 }
@@ -143,12 +149,41 @@ fn header(md: &mut String, first: &[&str], sim: &[ImageSet]) {
     let _ = writeln!(md, "|{}", "---|".repeat(cols.len()));
 }
 
+/// Whether a simulated figure counts as alike (marked ✓), given the real quartiles.
+type Alike = fn(&Quartiles, &Quartiles) -> bool;
+
+/// One cell per simulated set: its median of `metric` for `combo`, ✓ when `alike`.
+fn sim_cells(
+    md: &mut String,
+    sim: &[ImageSet],
+    combo: &str,
+    metric: &str,
+    real: &Quartiles,
+    decimals: usize,
+    alike: Option<Alike>,
+) {
+    for s in sim {
+        match quartiles(s, combo, metric) {
+            Some(q) => {
+                let mark = if alike.is_some_and(|f| f(real, q)) {
+                    " ✓"
+                } else {
+                    ""
+                };
+                let _ = write!(md, " {:.*}{mark} |", decimals, q.median);
+            }
+            None => md.push_str(" – |"),
+        }
+    }
+    md.push('\n');
+}
+
 fn keypoint_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
     md.push_str(
         "## Keypoints per image\n\nMedian; ✓: inside the real images' interquartile range.\n\n",
     );
     header(md, &["combination", "real median [q1, q3]"], sim);
-    for c in combos(std::slice::from_ref(real)) {
+    for c in &real.summaries {
         let Some(r) = c.get("keypoints") else {
             continue;
         };
@@ -157,62 +192,29 @@ fn keypoint_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
             "| {} | {:.0} [{:.0}, {:.0}] |",
             c.combo, r.median, r.q1, r.q3
         );
-        for s in sim {
-            match quartiles(s, &c.combo, "keypoints") {
-                Some(q) => {
-                    let mark = if inside(r, q) { " ✓" } else { "" };
-                    let _ = write!(md, " {:.0}{mark} |", q.median);
-                }
-                None => md.push_str(" – |"),
-            }
-        }
-        md.push('\n');
+        sim_cells(md, sim, &c.combo, "keypoints", r, 0, Some(inside));
     }
     md.push('\n');
 }
 
-fn match_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
-    md.push_str("## Match ratio and match score\n\nMedian; ✓: within 0.1 of the real median.\n\n");
+/// A table of medians of `metrics`, one row per combination and metric.
+fn median_table(
+    md: &mut String,
+    title: &str,
+    metrics: &[&str],
+    alike: Option<Alike>,
+    sets: (&ImageSet, &[ImageSet]),
+) {
+    let (real, sim) = sets;
+    md.push_str(title);
     header(md, &["combination", "metric", "real"], sim);
-    for c in combos(std::slice::from_ref(real)) {
-        for metric in ["match_ratio", "match_score"] {
+    for c in &real.summaries {
+        for &metric in metrics {
             let Some(r) = c.get(metric) else {
                 continue;
             };
             let _ = write!(md, "| {} | {metric} | {:.3} |", c.combo, r.median);
-            for s in sim {
-                match quartiles(s, &c.combo, metric) {
-                    Some(q) => {
-                        let mark = if close(r, q) { " ✓" } else { "" };
-                        let _ = write!(md, " {:.3}{mark} |", q.median);
-                    }
-                    None => md.push_str(" – |"),
-                }
-            }
-            md.push('\n');
-        }
-    }
-    md.push('\n');
-}
-
-fn other_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
-    md.push_str("## The other metrics\n\nMedians.\n\n");
-    header(md, &["combination", "metric", "real"], sim);
-    for c in combos(std::slice::from_ref(real)) {
-        for &metric in OTHER_METRICS {
-            let Some(r) = c.get(metric) else {
-                continue;
-            };
-            let _ = write!(md, "| {} | {metric} | {:.3} |", c.combo, r.median);
-            for s in sim {
-                match quartiles(s, &c.combo, metric) {
-                    Some(q) => {
-                        let _ = write!(md, " {:.3} |", q.median);
-                    }
-                    None => md.push_str(" – |"),
-                }
-            }
-            md.push('\n');
+            sim_cells(md, sim, &c.combo, metric, r, 3, alike);
         }
     }
     md.push('\n');

@@ -314,23 +314,25 @@ fn wall_item(b: &mut SceneBuilder) {
     );
     let z = b.rng.random_range(0.8..2.2f32);
     let depth = 0.03;
-    if b.rng.random_bool(0.6) {
-        let x = b.rng.random_range(-HALF_X + 0.5..HALF_X - 0.5);
-        let y = if b.rng.random_bool(0.5) {
-            HALF_Y - depth
-        } else {
-            -HALF_Y
-        };
-        b.structure(Object::aabb_box([x, y, z], [x + w, y + depth, z + h], m));
+    // 60 % on the long walls (along x), the rest on the end walls (along y).
+    let long_wall = b.rng.random_bool(0.6);
+    let (half_along, half_across) = if long_wall {
+        (HALF_X, HALF_Y)
     } else {
-        let y = b.rng.random_range(-HALF_Y + 0.5..HALF_Y - 0.5);
-        let x = if b.rng.random_bool(0.5) {
-            HALF_X - depth
-        } else {
-            -HALF_X
-        };
-        b.structure(Object::aabb_box([x, y, z], [x + depth, y + w, z + h], m));
-    }
+        (HALF_Y, HALF_X)
+    };
+    let along = b.rng.random_range(-half_along + 0.5..half_along - 0.5);
+    let across = if b.rng.random_bool(0.5) {
+        half_across - depth
+    } else {
+        -half_across
+    };
+    let (lo, hi) = if long_wall {
+        ([along, across, z], [along + w, across + depth, z + h])
+    } else {
+        ([across, along, z], [across + depth, along + w, z + h])
+    };
+    b.structure(Object::aabb_box(lo, hi, m));
 }
 
 /// A point in the band between the loop and the walls.
