@@ -1,5 +1,6 @@
 //! Helpers for the CLI tests: run the real `keylo` binary.
 
+use std::collections::HashMap;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -60,4 +61,21 @@ pub fn expect_failure(o: &Output, code: i32, needle: &str) {
     assert_eq!(o.status.code(), Some(code), "{e}");
     assert!(!e.contains("panicked"), "panic: {e}");
     assert!(e.contains(needle), "stderr lacks `{needle}`: {e}");
+}
+
+/// The rows of a CSV file without quoted fields, as column → value.
+#[allow(dead_code)]
+pub fn read_csv(p: &Path) -> Vec<HashMap<String, String>> {
+    let text = std::fs::read_to_string(p).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(String::from))
+                .collect()
+        })
+        .collect()
 }
