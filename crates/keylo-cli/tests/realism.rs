@@ -51,6 +51,7 @@ fn realism_writes_the_tables_and_histograms() {
         "| sim signal | ",
         "| sim signal-stretched | ",
         "| sim range | ",
+        "## Row profile",
     ] {
         assert!(md.contains(needle), "realism.md lacks `{needle}`:\n{md}");
     }

@@ -17,6 +17,9 @@ pub const GRADIENT_BINS: usize = 128;
 /// everything from `(GRADIENT_BINS - 1) · width` up to the largest, ≈ 1442).
 pub const GRADIENT_BIN_WIDTH: f64 = 8.0;
 
+/// Row bands of the row profile (eighths of the image, top first).
+pub const ROW_BANDS: usize = 8;
+
 /// The mean histograms of a set of images.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Histograms {
@@ -27,6 +30,9 @@ pub struct Histograms {
     /// Share of interior pixels per bin of Sobel gradient magnitude ([`GRADIENT_BINS`] bins of
     /// [`GRADIENT_BIN_WIDTH`], summing to 1).
     pub gradient: Vec<f64>,
+    /// Mean grey level of each of [`ROW_BANDS`] bands of rows, top first: where the image is
+    /// bright (ceiling, walls, floor next to the sensor).
+    pub row_profile: Vec<f64>,
 }
 
 impl Histograms {
@@ -37,6 +43,7 @@ impl Histograms {
     ) -> Result<Self, KpEvalError> {
         let mut intensity = vec![0.0; 256];
         let mut gradient = vec![0.0; GRADIENT_BINS];
+        let mut bands = vec![(0.0, 0usize); ROW_BANDS];
         let mut images = 0;
         for plane in planes {
             images += 1;
@@ -48,6 +55,7 @@ impl Histograms {
             )?;
             add_intensity(&img.data, &mut intensity);
             add_gradient(&img.data, img.width, img.height, &mut gradient);
+            add_rows(&img.data, img.width, img.height, &mut bands);
         }
         normalise(&mut intensity);
         normalise(&mut gradient);
@@ -55,6 +63,10 @@ impl Histograms {
             images,
             intensity,
             gradient,
+            row_profile: bands
+                .iter()
+                .map(|&(sum, n)| if n > 0 { sum / n as f64 } else { 0.0 })
+                .collect(),
         })
     }
 
@@ -133,6 +145,15 @@ fn add_intensity(data: &[u8], hist: &mut [f64]) {
     }
 }
 
+/// Every pixel's grey level into the (sum, count) of its row band.
+fn add_rows(data: &[u8], width: usize, height: usize, bands: &mut [(f64, usize)]) {
+    for (y, row) in data.chunks(width.max(1)).take(height).enumerate() {
+        let band = &mut bands[(y * ROW_BANDS / height.max(1)).min(ROW_BANDS - 1)];
+        band.0 += row.iter().map(|&v| f64::from(v)).sum::<f64>();
+        band.1 += row.len();
+    }
+}
+
 /// Sobel magnitude of every interior pixel into `hist`.
 fn add_gradient(data: &[u8], width: usize, height: usize, hist: &mut [f64]) {
     let px = |x: usize, y: usize| f64::from(data[y * width + x]);
@@ -187,6 +208,7 @@ mod tests {
         assert_eq!(h.intensity[40], 1.0);
         assert_eq!(h.gradient[0], 1.0);
         assert_eq!(h.mean_intensity(), 40.0);
+        assert_eq!(h.row_profile.len(), ROW_BANDS);
         assert_eq!(h.mean_gradient(), 0.5 * GRADIENT_BIN_WIDTH);
     }
 
@@ -199,6 +221,9 @@ mod tests {
         assert_eq!(h.gradient[5], 1.0);
         assert_eq!(h.intensity[0], 0.5);
         assert_eq!(h.intensity[10], 0.5);
+        // Three rows into eight bands: rows 0, 1, 2 fill bands 0, 2 and 5 (the rest empty).
+        assert_eq!(h.row_profile[0], 5.0);
+        assert_eq!(h.row_profile[1], 0.0);
     }
 
     #[test]

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use keylo::kpeval::realism::{distance, Distance, GRADIENT_BIN_WIDTH};
+use keylo::kpeval::realism::{distance, Distance, GRADIENT_BIN_WIDTH, ROW_BANDS};
 use keylo::kpeval::Quartiles;
 
 use super::ImageSet;
@@ -93,6 +93,7 @@ pub fn markdown(sets: &[ImageSet], heading: &str) -> String {
         (real, sim),
     );
     histogram_table(&mut md, real, sim);
+    row_table(&mut md, real, sim);
     md
 }
 
@@ -260,6 +261,27 @@ fn shift(set: &ImageSet) -> String {
     set.shift.map_or_else(|| "–".into(), |s| format!("{s:.2}"))
 }
 
+/// Mean grey per row band, real and simulated, and each set's mean absolute difference from
+/// the real profile.
+fn row_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
+    md.push_str(
+        "\n## Row profile\n\nMean grey level per eighth of the image's rows, top (ceiling, \
+         sky) first; the last column is the mean absolute difference from the real profile.\n\n",
+    );
+    let bands: Vec<String> = (1..=ROW_BANDS)
+        .map(|b| format!("rows {b}/{ROW_BANDS}"))
+        .collect();
+    let _ = writeln!(md, "| images | {} | difference |", bands.join(" | "));
+    let _ = writeln!(md, "|{}", "---|".repeat(ROW_BANDS + 2));
+    let r = &real.histograms.row_profile;
+    for s in std::iter::once(real).chain(sim) {
+        let p = &s.histograms.row_profile;
+        let cells: Vec<String> = p.iter().map(|v| format!("{v:.1}")).collect();
+        let diff = p.iter().zip(r).map(|(a, b)| (a - b).abs()).sum::<f64>() / ROW_BANDS as f64;
+        let _ = writeln!(md, "| {} | {} | {diff:.1} |", s.name, cells.join(" | "));
+    }
+}
+
 fn quartiles_csv(sets: &[ImageSet]) -> String {
     let mut csv = String::from("set,combination,metric,n,q1,median,q3,mean\n");
     for s in sets {
@@ -302,6 +324,7 @@ fn json(sets: &[ImageSet]) -> serde_json::Value {
                 "images": s.histograms.images,
                 "mean_intensity": s.histograms.mean_intensity(),
                 "mean_gradient": s.histograms.mean_gradient(),
+                "row_profile": s.histograms.row_profile,
                 "median_shift_px": s.shift,
                 "intensity_distance": d.map(|d| d.0),
                 "gradient_distance": d.map(|d| d.1),
