@@ -23,8 +23,8 @@ struct Staggered<'a> {
     times: &'a [f64],
 }
 
-/// One block of destaggered rows of every output grid, not yet written: the destagger
-/// writes every element once (no zero fill before).
+/// One block of destaggered rows of every output grid, spare capacity the destagger writes
+/// every element of once before the vectors take it as their length.
 struct RowOut<'a> {
     range: &'a mut [MaybeUninit<f32>],
     signal: &'a mut [MaybeUninit<f32>],

@@ -1,147 +1,122 @@
-//! Range → XYZ as ouster-sdk's `make_xyz_lut` + `cartesian` compute it: a per-pixel unit
-//! direction and offset (beam origin off the lidar axis, then the lidar → sensor transform),
-//! so `xyz = direction · range + offset`; range 0 gives no point.
+//! Range → XYZ as ouster-sdk's `make_xyz_lut` + `cartesian` compute it: along each beam from
+//! its origin (off the lidar axis), then the lidar → sensor transform; range 0 gives no point.
+//! Written in the angle-sum form, per-column encoder terms times per-row beam terms, so no
+//! per-pixel table is built or read (one would be 3 MB per 128×1024 frame in f32).
 
 use std::f64::consts::PI;
+use std::ops::{Add, Mul, Sub};
 
-use nalgebra::{Point3, Vector3};
+use nalgebra::Point3;
 
 use super::metadata::OusterMetadata;
 
-/// Per-pixel direction and offset for a `rows × cols` staggered grid (column = measurement id).
+/// One beam's terms: cos(azimuth)·cos(altitude), sin(azimuth)·cos(altitude), sin(altitude).
+pub type BeamTerms<T> = [T; 3];
+
+/// The terms of the formula in one precision.
 #[derive(Debug, Clone)]
-pub struct XyzLut {
-    cols: usize,
-    direction: Vec<Vector3<f64>>,
-    offset: Vec<Vector3<f64>>,
-    /// The per-frame path in f32 without a per-pixel table (a table is 3 MB to read per
-    /// 128×1024 frame, more than the frame's channels): per column cos/sin of the encoder
-    /// angle, per row the beam's terms (error < 0.1 mm at 500 m).
-    columns: Vec<[f32; 2]>,
-    beams: Vec<BeamTerms>,
+struct Terms<T> {
+    /// Per column (measurement id), cos and sin of the encoder angle.
+    columns: Vec<[T; 2]>,
+    beams: Vec<BeamTerms<T>>,
     /// lidar → sensor rotation and translation, scaled mm → m.
-    rot: [[f32; 3]; 3],
-    trans: [f32; 3],
+    rot: [[T; 3]; 3],
+    trans: [T; 3],
     /// Beam origin off the lidar axis and its height, mm.
-    n: f32,
-    z0: f32,
+    n: T,
+    z0: T,
 }
 
-/// One beam's terms of the angle-sum form of ouster-sdk's formula.
-#[derive(Debug, Clone, Copy)]
-pub struct BeamTerms {
-    /// cos(azimuth)·cos(altitude), sin(azimuth)·cos(altitude), sin(altitude).
-    a: f32,
-    b: f32,
-    s: f32,
+impl<T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T>> Terms<T> {
+    /// The point of `beam` at encoder angle `[cos, sin]` and `range_mm`, metres.
+    #[inline]
+    fn point(&self, [a, b, s]: BeamTerms<T>, [cos_enc, sin_enc]: [T; 2], range_mm: T) -> [T; 3] {
+        // The point in the lidar frame, mm: along the beam from its origin, `n` off the axis.
+        let along = range_mm - self.n;
+        let p = [
+            (cos_enc * a - sin_enc * b) * along + cos_enc * self.n,
+            (sin_enc * a + cos_enc * b) * along + sin_enc * self.n,
+            s * along + self.z0,
+        ];
+        let (m, t) = (&self.rot, &self.trans);
+        std::array::from_fn(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + t[i])
+    }
+}
+
+/// Range → XYZ for a `rows × cols` staggered grid (column = measurement id): in f64 for exact
+/// comparisons with ouster-sdk, in f32 for the frames (error < 0.1 mm at 500 m).
+#[derive(Debug, Clone)]
+pub struct XyzLut {
+    exact: Terms<f64>,
+    fast: Terms<f32>,
 }
 
 impl XyzLut {
-    /// The table for `meta`, points in the sensor frame, metres.
+    /// The terms for `meta`, points in the sensor frame, metres.
     pub fn new(meta: &OusterMetadata) -> Self {
         let (rows, cols) = (meta.pixels_per_column, meta.columns_per_frame);
         let beam = &meta.beam_to_lidar_transform;
-        let (n, z0) = (beam[(0, 3)], beam[(2, 3)]);
         let t = &meta.lidar_to_sensor_transform;
-        let rot = t.fixed_view::<3, 3>(0, 0).into_owned();
-        let trans = Vector3::new(t[(0, 3)], t[(1, 3)], t[(2, 3)]);
-        // cos/sin of (encoder + azimuth) from per-column and per-row terms (angle sum), so the
-        // table costs `rows + cols` sin/cos evaluations instead of `rows × cols`.
-        let encoder: Vec<(f64, f64)> = (0..cols)
-            .map(|c| (2.0 * PI - c as f64 * (2.0 * PI / cols as f64)).sin_cos())
-            .collect();
-        let mut direction = Vec::with_capacity(rows * cols);
-        let mut offset = Vec::with_capacity(rows * cols);
-        for r in 0..rows {
-            let (sin_az, cos_az) = (-meta.beam_azimuth_angles[r] * PI / 180.0).sin_cos();
-            let (sin_alt, cos_alt) = (meta.beam_altitude_angles[r] * PI / 180.0).sin_cos();
-            for &(sin_enc, cos_enc) in &encoder {
-                let cos_sum = cos_enc * cos_az - sin_enc * sin_az;
-                let sin_sum = sin_enc * cos_az + cos_enc * sin_az;
-                let d = Vector3::new(cos_sum * cos_alt, sin_sum * cos_alt, sin_alt);
-                let o = Vector3::new(cos_enc * n - d.x * n, sin_enc * n - d.y * n, -d.z * n + z0);
-                direction.push(rot * d * 1e-3);
-                offset.push((rot * o + trans) * 1e-3);
-            }
-        }
-        let columns = encoder
-            .iter()
-            .map(|&(sin_enc, cos_enc)| [cos_enc as f32, sin_enc as f32])
-            .collect();
-        let beams = (0..rows)
-            .map(|r| {
-                let (sin_az, cos_az) = (-meta.beam_azimuth_angles[r] * PI / 180.0).sin_cos();
-                let (sin_alt, cos_alt) = (meta.beam_altitude_angles[r] * PI / 180.0).sin_cos();
-                BeamTerms {
-                    a: (cos_az * cos_alt) as f32,
-                    b: (sin_az * cos_alt) as f32,
-                    s: sin_alt as f32,
-                }
-            })
-            .collect();
-        Self {
-            cols,
-            direction,
-            offset,
-            columns,
-            beams,
-            rot: std::array::from_fn(|i| std::array::from_fn(|j| (rot[(i, j)] * 1e-3) as f32)),
-            trans: std::array::from_fn(|i| (trans[i] * 1e-3) as f32),
-            n: n as f32,
-            z0: z0 as f32,
-        }
+        let exact = Terms {
+            columns: (0..cols)
+                .map(|c| {
+                    let (sin, cos) = (2.0 * PI - c as f64 * (2.0 * PI / cols as f64)).sin_cos();
+                    [cos, sin]
+                })
+                .collect(),
+            beams: (0..rows)
+                .map(|r| {
+                    let (sin_az, cos_az) = (-meta.beam_azimuth_angles[r] * PI / 180.0).sin_cos();
+                    let (sin_alt, cos_alt) = (meta.beam_altitude_angles[r] * PI / 180.0).sin_cos();
+                    [cos_az * cos_alt, sin_az * cos_alt, sin_alt]
+                })
+                .collect(),
+            rot: std::array::from_fn(|i| std::array::from_fn(|j| t[(i, j)] * 1e-3)),
+            trans: std::array::from_fn(|i| t[(i, 3)] * 1e-3),
+            n: beam[(0, 3)],
+            z0: beam[(2, 3)],
+        };
+        let fast = Terms {
+            columns: exact.columns.iter().map(|c| c.map(|v| v as f32)).collect(),
+            beams: exact.beams.iter().map(|b| b.map(|v| v as f32)).collect(),
+            rot: exact.rot.map(|row| row.map(|v| v as f32)),
+            trans: exact.trans.map(|v| v as f32),
+            n: exact.n as f32,
+            z0: exact.z0 as f32,
+        };
+        Self { exact, fast }
     }
 
-    /// The point of pixel `(row, col)` at `range_mm`; `None` for range 0 (no return).
+    /// The point of pixel `(row, col)` at `range_mm` in f64; `None` for range 0 (no return).
     #[inline]
     pub fn point(&self, row: usize, col: usize, range_mm: u32) -> Option<Point3<f64>> {
         if range_mm == 0 {
             return None;
         }
-        let i = row * self.cols + col;
-        Some(Point3::from(
-            self.direction[i] * f64::from(range_mm) + self.offset[i],
-        ))
+        let e = &self.exact;
+        Some(Point3::from(e.point(
+            e.beams[row],
+            e.columns[col],
+            f64::from(range_mm),
+        )))
     }
 
-    /// [`Self::point`] in f32 arithmetic (the frame's precision): `None` for range 0.
+    /// The f32 terms of beam (row) `row`.
     #[inline]
-    pub fn point_f32(&self, row: usize, col: usize, range_mm: u32) -> Option<[f32; 3]> {
-        if range_mm == 0 {
-            return None;
-        }
-        Some(self.point_of(self.beams[row], self.columns[col], range_mm))
+    pub fn beam(&self, row: usize) -> BeamTerms<f32> {
+        self.fast.beams[row]
     }
 
-    /// The terms of beam (row) `row`.
-    #[inline]
-    pub fn beam(&self, row: usize) -> BeamTerms {
-        self.beams[row]
-    }
-
-    /// cos/sin of the encoder angle of every column.
+    /// cos/sin of the encoder angle of every column, f32.
     #[inline]
     pub fn columns(&self) -> &[[f32; 2]] {
-        &self.columns
+        &self.fast.columns
     }
 
-    /// The point of `beam` at encoder angle `[cos, sin]` and `range_mm` (any range: the
+    /// The point of `beam` at encoder angle `[cos, sin]` and `range_mm` in f32 (any range: the
     /// caller treats range 0 as no return).
     #[inline]
-    pub fn point_of(
-        &self,
-        beam: BeamTerms,
-        [cos_enc, sin_enc]: [f32; 2],
-        range_mm: u32,
-    ) -> [f32; 3] {
-        // The point in the lidar frame, mm: along the beam from its origin, `n` off the axis.
-        let along = range_mm as f32 - self.n;
-        let p = [
-            (cos_enc * beam.a - sin_enc * beam.b) * along + cos_enc * self.n,
-            (sin_enc * beam.a + cos_enc * beam.b) * along + sin_enc * self.n,
-            beam.s * along + self.z0,
-        ];
-        let (m, t) = (&self.rot, &self.trans);
-        std::array::from_fn(|i| m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + t[i])
+    pub fn point_of(&self, beam: BeamTerms<f32>, angle: [f32; 2], range_mm: u32) -> [f32; 3] {
+        self.fast.point(beam, angle, range_mm as f32)
     }
 }
