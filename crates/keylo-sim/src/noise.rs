@@ -40,11 +40,6 @@ impl PixelRng {
         }
     }
 
-    /// A stream started from `state` (a hash of what it belongs to).
-    pub fn from_state(state: u64) -> Self {
-        Self { state }
-    }
-
     /// A uniform draw in `[0, 1)`.
     pub fn uniform(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64

@@ -101,17 +101,21 @@ impl Shading {
         let albedo = f64::from(hit.albedo);
         let cos_inc = f64::from(hit.normal.dot(dir_world).abs());
         let model = self.signal_gain * albedo * cos_inc / (r_true * r_true + 0.25);
+        // One draw of noise for both: the model's signal decides the return, the sensor's
+        // (gain, near field, noise factor; all 1 for the ideal model) is what it reports.
         let shot = rng.gaussian();
-        let counts = |mean: f64| (mean + mean.sqrt() * shot).clamp(0.0, MAX_COUNT);
-        let model_signal = counts(model.min(MAX_COUNT));
-        let signal = if gain == 1.0 && self.near_field_m == 0.0 && self.noise_factor == 1.0 {
-            model_signal
-        } else {
-            let r2 = r_true * r_true;
-            let near = r2 / (r2 + self.near_field_m * self.near_field_m);
-            let mean = (gain * near * model).min(MAX_COUNT);
-            (mean + (self.noise_factor * mean).sqrt() * shot).clamp(0.0, MAX_COUNT)
+        let counts = |mean: f64, factor: f64| {
+            let mean = mean.min(MAX_COUNT);
+            (mean + (factor * mean).sqrt() * shot).clamp(0.0, MAX_COUNT)
         };
+        let model_signal = counts(model, 1.0);
+        let near = if self.near_field_m > 0.0 {
+            let r2 = r_true * r_true;
+            r2 / (r2 + self.near_field_m * self.near_field_m)
+        } else {
+            1.0
+        };
+        let signal = counts(gain * near * model, self.noise_factor);
         let refl_noise = 0.5 * rng.gaussian() / (signal + 1.0).sqrt();
         let valid =
             model_signal >= MIN_SIGNAL && range >= self.min_range_m && range <= self.max_range_m;

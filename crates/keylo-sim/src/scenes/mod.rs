@@ -53,11 +53,7 @@ impl Scene {
             SceneKind::Corridor => corridor::build(seed, speed_scale),
             SceneKind::Road => road::build(seed, speed_scale),
         };
-        let motion = if sway_scale == 1.0 {
-            motion
-        } else {
-            motion.with_sway_scaled(sway_scale)
-        };
+        let motion = motion.with_sway_scaled(sway_scale);
         let world = builder.finish(kind.name(), &motion)?;
         Ok(Self {
             kind,
