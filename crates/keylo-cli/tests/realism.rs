@@ -97,13 +97,15 @@ fn realism_bad_input_is_named() {
     let tmp = tempfile::tempdir().unwrap();
     let real = real_images();
     let real = real.to_str().unwrap();
-    let cases: [(&[&str], &str); 3] = [
+    let cases: [(&[&str], &str); 5] = [
         (&["--real", "no-such-folder"], "--real no-such-folder"),
         (
             &["--real", real, "--channels", "colour"],
             "unknown channel `colour`",
         ),
         (&["--real", real, "--frames", "1"], "--frames 1"),
+        (&["--real", real, "--seeds", "0"], "--seeds 0"),
+        (&["--real", real, "--jobs", "0"], "--jobs 0"),
     ];
     for (extra, needle) in cases {
         let mut args = vec!["sim", "realism", "--out", "o", "--combos", "ORB_ORB"];

@@ -55,7 +55,7 @@ pub fn prepare(args: &InputArgs, spec: &EvalSpec, threads: Option<usize>) -> Res
 }
 
 /// Jobs: `--jobs`, else `--threads`, else one per core.
-fn jobs(asked: Option<usize>, threads: Option<usize>) -> Result<usize> {
+pub(crate) fn jobs(asked: Option<usize>, threads: Option<usize>) -> Result<usize> {
     let n = asked.or(threads).unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
     });

@@ -88,6 +88,7 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     if args.seeds == 0 {
         bail!("--seeds 0: expected at least 1");
     }
+    let jobs = crate::keypoints::input::jobs(args.jobs, threads)?;
     let mut inputs: Vec<(String, Vec<Vec<Plane>>)> = vec![("real".into(), vec![real])];
     let config = crate::cmd_sim::sim_config(&args.scene, args.frames, &args.sets)?;
     for k in 0..args.seeds {
@@ -108,10 +109,6 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     let registry = keylo::registry();
     let set = keylo::kpeval::ComboSet::parse(&args.combos);
     let combos = keylo::kpeval::parse_combos(&set, &registry).context("--combos")?;
-    let jobs = args
-        .jobs
-        .or(threads)
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let ctx = BuildContext::default();
@@ -123,7 +120,7 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
             bar.set_position(done as u64);
         };
         let opts = EvalOptions {
-            jobs: jobs.max(1),
+            jobs,
             skip_unavailable: false,
             progress: Some(&tick),
         };
