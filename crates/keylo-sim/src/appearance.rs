@@ -6,6 +6,8 @@
 //!   of the 8-bit images made as `counts / 256`), `SIGNAL_SCALE` times the ideal model's;
 //! * per-beam gain: rows repeat a pattern of four gains that deepens in the middle rows
 //!   (one beam of four down to 0.75–0.85 of its neighbours), measured per beam;
+//! * per-beam range response: each beam's gain also wanders with range, differently for
+//!   every beam, so a surface shows row-to-row streaks the fixed gains do not explain;
 //! * noise: a still sensor's images differ by ~√200 times the photon shot noise;
 //! * near field: below ~3 m the signal falls short of `1/r²` (the real images are brightest
 //!   on the walls, not on the floor next to the sensor);
@@ -16,6 +18,8 @@
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
+
+use crate::noise::{hash_words, unit};
 
 /// Which image effects the simulator adds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, JsonSchema)]
@@ -53,6 +57,25 @@ const OS0_128_BEAM_GAINS: [f64; 128] = [
     0.971, 1.053, 1.033, 0.948, 0.962, 1.043, 1.028, 0.956,
     0.924, 1.058, 1.047, 0.984, 0.980, 0.984, 0.991, 0.867,
 ];
+
+/// How far each beam's gain wanders with range: up to `± RANGE_WANDER` of it, smoothly, over
+/// steps of `RANGE_WANDER_STEP_M`, fading with range. Measured two ways:
+/// * the TIERS images' row-to-row residual (a pixel minus the mean of the pixels above and
+///   below; `scripts/sim/row_residual.py`): median over the image 13.5 grey levels, the lab's
+///   8.9 without the wandering and 12.3 with it (column residual 6.5 in all three);
+/// * in the OS0-128 capture of `../shared/data/ouster` (range and signal), the spread over
+///   beams of each beam's gain relative to its neighbours, per range bin
+///   (`scripts/sim/beam_range_response.py`): 0.21 below 1.5 m, 0.18 at 2–3 m, 0.13 at
+///   3–4 m; in the lab 0.07 and 0.04 at 2–4 m without the wandering, 0.11 and 0.06 with it
+///   (still below the real sensor's).
+const RANGE_WANDER: f64 = 0.35;
+
+/// Range over which a beam's gain changes independently, metres.
+const RANGE_WANDER_STEP_M: f64 = 1.0;
+
+/// Range at which the wandering has faded to half: the spread over beams in the OS0-128
+/// capture falls from 0.21 below 1.5 m to 0.13 at 3–4 m.
+const RANGE_WANDER_FADE_M: f64 = 5.0;
 
 /// Range below which the real signal falls short of `1/r²`, metres.
 const NEAR_FIELD_M: f64 = 3.0;
@@ -92,20 +115,58 @@ impl Appearance {
         }
     }
 
-    /// The signal gain of every beam (row) of a `rows`-beam sensor (1 for `ideal`; for
-    /// `ouster`, the measured OS0-128 gains, sampled at the same place in the four-beam
-    /// pattern for other beam counts).
-    pub fn beam_gains(self, rows: usize) -> Vec<f64> {
+    /// The signal response of every beam (row) of a `rows`-beam sensor (gain 1 for
+    /// `ideal`; for `ouster`, the measured OS0-128 gains, sampled at the same place in the
+    /// four-beam pattern for other beam counts, each wandering with range).
+    pub fn beam_responses(self, rows: usize) -> Vec<BeamResponse> {
         match self {
-            Self::Ideal => vec![1.0; rows],
+            Self::Ideal => vec![BeamResponse::UNIT; rows],
             Self::Ouster => (0..rows)
                 .map(|r| {
                     let block = (r / 4) * 128 / rows.max(1);
                     let i = (4 * block + r % 4).min(127);
-                    SIGNAL_SCALE * OS0_128_BEAM_GAINS[i]
+                    BeamResponse {
+                        gain: SIGNAL_SCALE * OS0_128_BEAM_GAINS[i],
+                        wander: RANGE_WANDER,
+                        seed: hash_words(&[0xBEA4_4E5F, i as u64]),
+                    }
                 })
                 .collect(),
         }
+    }
+}
+
+/// The signal gain of one beam: a fixed gain that wanders smoothly with range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BeamResponse {
+    /// Gain over the ideal model's signal.
+    gain: f64,
+    /// How far the gain wanders with range (share of it; 0: not at all).
+    wander: f64,
+    /// The beam's own wandering (a property of the sensor, the same in every scene).
+    seed: u64,
+}
+
+impl BeamResponse {
+    /// The ideal beam: gain 1 at every range.
+    pub const UNIT: Self = Self {
+        gain: 1.0,
+        wander: 0.0,
+        seed: 0,
+    };
+
+    /// The gain at `range_m` metres.
+    pub fn at(&self, range_m: f64) -> f64 {
+        if self.wander == 0.0 {
+            return self.gain;
+        }
+        let x = range_m.max(0.0) / RANGE_WANDER_STEP_M;
+        let (i, f) = (x.floor(), x.fract());
+        let knot = |k: f64| 2.0 * f64::from(unit(hash_words(&[self.seed, k as u64]))) - 1.0;
+        let s = f * f * (3.0 - 2.0 * f);
+        let n = knot(i) + (knot(i + 1.0) - knot(i)) * s;
+        let fade = 1.0 / (1.0 + (range_m / RANGE_WANDER_FADE_M).powi(2));
+        self.gain * (1.0 + self.wander * fade * n)
     }
 }
 
@@ -113,17 +174,60 @@ impl Appearance {
 mod tests {
     use super::*;
 
+    /// The gains of a sensor's beams at `range_m`.
+    fn gains(look: Appearance, rows: usize, range_m: f64) -> Vec<f64> {
+        let beams = look.beam_responses(rows);
+        beams.iter().map(|b| b.at(range_m)).collect()
+    }
+
     #[test]
     fn ideal_has_unit_gains_ouster_the_measured_pattern() {
-        assert_eq!(Appearance::Ideal.beam_gains(3), vec![1.0; 3]);
-        let g = Appearance::Ouster.beam_gains(128);
+        assert_eq!(gains(Appearance::Ideal, 3, 7.3), vec![1.0; 3]);
+        // On the range steps the wandering is at its knots; its mean over beams is near 0.
+        let g: Vec<f64> = (0..128)
+            .map(|r| {
+                (0..40)
+                    .map(|k| gains(Appearance::Ouster, 128, 0.25 * k as f64 + 0.1)[r])
+                    .sum::<f64>()
+                    / 40.0
+            })
+            .collect();
         let mean = g.iter().sum::<f64>() / 128.0;
-        assert!((mean / SIGNAL_SCALE - 1.0).abs() < 1e-3, "{mean}");
-        // The weak beam of each four in the middle rows.
-        assert!(g[47] < 0.9 * g[44], "{g:?}");
-        let g64 = Appearance::Ouster.beam_gains(64);
+        assert!((mean / SIGNAL_SCALE - 1.0).abs() < 0.03, "{mean}");
+        // The weak beam of each four in the middle rows, averaged over the mid rows.
+        let phase = |p: usize| (40..100).filter(|r| r % 4 == p).map(|r| g[r]).sum::<f64>();
+        assert!(phase(3) < 0.9 * phase(0), "{g:?}");
+        // Other beam counts sample the same beams (gain and wandering).
+        let (g128, g64) = (
+            gains(Appearance::Ouster, 128, 4.4),
+            gains(Appearance::Ouster, 64, 4.4),
+        );
         assert_eq!(g64.len(), 64);
-        assert_eq!(g64[3], g[3]);
-        assert_eq!(g64[63], g[123]);
+        assert_eq!(g64[3], g128[3]);
+        assert_eq!(g64[63], g128[123]);
+    }
+
+    #[test]
+    fn a_beam_wanders_smoothly_and_within_bounds() {
+        let beam = Appearance::Ouster.beam_responses(128)[10];
+        let base = SIGNAL_SCALE * OS0_128_BEAM_GAINS[10];
+        let g: Vec<f64> = (0..2000).map(|k| beam.at(k as f64 * 0.01) / base).collect();
+        assert!(g
+            .iter()
+            .all(|x| (1.0 - RANGE_WANDER..=1.0 + RANGE_WANDER).contains(x)));
+        // Smooth: 1 cm apart differs by far less than the whole swing.
+        let step = g
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0.0, f64::max);
+        assert!(step < 0.02, "{step}");
+        let (lo, hi) = g
+            .iter()
+            .fold((9.0f64, 0.0f64), |(l, h), x| (l.min(*x), h.max(*x)));
+        assert!(hi - lo > 0.2, "{lo}..{hi}");
+        // Beams wander differently.
+        let other = Appearance::Ouster.beam_responses(128)[11];
+        let ratio = |r: f64| beam.at(r) / other.at(r);
+        assert!((ratio(2.0) - ratio(5.0)).abs() > 1e-3);
     }
 }

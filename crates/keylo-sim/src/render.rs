@@ -7,6 +7,7 @@ use nalgebra::Vector3;
 use parry3d::math::Vector as GVec;
 use rayon::prelude::*;
 
+use crate::appearance::BeamResponse;
 use crate::noise::PixelRng;
 use crate::scenes::Scene;
 use crate::sensor::SensorModel;
@@ -22,8 +23,8 @@ pub(crate) struct Renderer {
     pub beams: Arc<BeamGeometry>,
     /// `(cos, sin)` of each beam's elevation.
     altitudes: Vec<(f64, f64)>,
-    /// Signal gain of each beam (row): 1 for the ideal appearance.
-    beam_gains: Vec<f64>,
+    /// Signal response of each beam (row): gain 1 for the ideal appearance.
+    beam_responses: Vec<BeamResponse>,
     /// Rays are cast this far (a bit past the max range, for the near-IR of far surfaces).
     cast_range: f32,
 }
@@ -32,7 +33,7 @@ impl Renderer {
     /// A renderer for `sensor` with `shading`, noise seeded by `seed`.
     pub fn new(sensor: SensorModel, shading: Shading, seed: u64, look: Appearance) -> Self {
         let altitudes = sensor.altitude_table();
-        let beam_gains = look.beam_gains(sensor.rows);
+        let beam_responses = look.beam_responses(sensor.rows);
         let beams = sensor.beam_geometry();
         let cast_range = (sensor.max_range_m * 1.2 + 1.0) as f32;
         Self {
@@ -41,7 +42,7 @@ impl Renderer {
             seed,
             beams,
             altitudes,
-            beam_gains,
+            beam_responses,
             cast_range,
         }
     }
@@ -89,8 +90,8 @@ impl Renderer {
             .cast::<f32>();
         let t = pose.translation.vector.cast::<f32>();
         let origin = GVec::new(t.x, t.y, t.z);
-        let beams = self.altitudes.iter().zip(&self.beam_gains);
-        for ((row, px), (&(ca, sa), &gain)) in out.iter_mut().enumerate().zip(beams) {
+        let beams = self.altitudes.iter().zip(&self.beam_responses);
+        for ((row, px), (&(ca, sa), beam)) in out.iter_mut().enumerate().zip(beams) {
             let dir_s = Vector3::new(ca * caz, ca * saz, sa);
             let w = rot * dir_s.cast::<f32>();
             let dir_w = GVec::new(w.x, w.y, w.z).normalize();
@@ -98,7 +99,7 @@ impl Renderer {
             let mut rng = PixelRng::for_pixel(self.seed, frame, row, col);
             *px = self
                 .shading
-                .pixel(hit.as_ref(), &dir_s, dir_w, gain, &mut rng);
+                .pixel(hit.as_ref(), &dir_s, dir_w, beam, &mut rng);
         }
     }
 }

@@ -12,6 +12,7 @@
 use nalgebra::{Point3, Vector3};
 use parry3d::math::Vector as GVec;
 
+use crate::appearance::BeamResponse;
 use crate::noise::PixelRng;
 use crate::scenes::Ambient;
 use crate::world::Hit;
@@ -79,14 +80,14 @@ pub struct Shading {
 
 impl Shading {
     /// The pixel seen along `dir_sensor` (sensor frame) / `dir_world`, given what it hit, by
-    /// a beam whose signal is `gain` times the model's. Whether it returns depends on the
-    /// model's signal, not the gain.
+    /// a beam whose signal is `beam`'s gain at the hit's range times the model's. Whether it
+    /// returns depends on the model's signal, not the gain.
     pub fn pixel(
         &self,
         hit: Option<&Hit>,
         dir_sensor: &Vector3<f64>,
         dir_world: GVec,
-        gain: f64,
+        beam: &BeamResponse,
         rng: &mut PixelRng,
     ) -> PixelReturn {
         let Some(hit) = hit else {
@@ -115,7 +116,7 @@ impl Shading {
         } else {
             1.0
         };
-        let signal = counts(gain * near * model, self.noise_factor);
+        let signal = counts(beam.at(r_true) * near * model, self.noise_factor);
         let refl_noise = 0.5 * rng.gaussian() / (signal + 1.0).sqrt();
         let valid =
             model_signal >= MIN_SIGNAL && range >= self.min_range_m && range <= self.max_range_m;
@@ -212,8 +213,20 @@ mod tests {
         let s = shading();
         let d = Vector3::x();
         let mut rng = PixelRng::for_pixel(0, 0, 0, 0);
-        let near = s.pixel(Some(&hit(5.0, 0.5)), &d, GVec::X, 1.0, &mut rng);
-        let far = s.pixel(Some(&hit(20.0, 0.5)), &d, GVec::X, 1.0, &mut rng);
+        let near = s.pixel(
+            Some(&hit(5.0, 0.5)),
+            &d,
+            GVec::X,
+            &BeamResponse::UNIT,
+            &mut rng,
+        );
+        let far = s.pixel(
+            Some(&hit(20.0, 0.5)),
+            &d,
+            GVec::X,
+            &BeamResponse::UNIT,
+            &mut rng,
+        );
         assert!(near.valid && far.valid);
         assert!(near.signal > 10.0 * far.signal);
         assert!(
@@ -235,18 +248,36 @@ mod tests {
         let d = Vector3::x();
         let mut rng = PixelRng::for_pixel(0, 0, 0, 1);
         assert!(
-            !s.pixel(Some(&hit(60.0, 0.05)), &d, GVec::X, 1.0, &mut rng)
-                .valid
+            !s.pixel(
+                Some(&hit(60.0, 0.05)),
+                &d,
+                GVec::X,
+                &BeamResponse::UNIT,
+                &mut rng
+            )
+            .valid
         );
         assert!(
-            !s.pixel(Some(&hit(0.2, 0.5)), &d, GVec::X, 1.0, &mut rng)
-                .valid
+            !s.pixel(
+                Some(&hit(0.2, 0.5)),
+                &d,
+                GVec::X,
+                &BeamResponse::UNIT,
+                &mut rng
+            )
+            .valid
         );
         assert!(
-            !s.pixel(Some(&hit(80.0, 1.0)), &d, GVec::X, 1.0, &mut rng)
-                .valid
+            !s.pixel(
+                Some(&hit(80.0, 1.0)),
+                &d,
+                GVec::X,
+                &BeamResponse::UNIT,
+                &mut rng
+            )
+            .valid
         );
-        let sky = s.pixel(None, &d, GVec::X, 1.0, &mut rng);
+        let sky = s.pixel(None, &d, GVec::X, &BeamResponse::UNIT, &mut rng);
         assert!(!sky.valid && sky.range == 0.0 && sky.near_ir > 100.0);
     }
 }

@@ -29,6 +29,15 @@ pub enum Pattern {
         /// Tile size.
         cell: f32,
     },
+    /// Floor tiles of one material: each tile's albedo a little off the background's
+    /// (`± contrast` of it) and mottled at a tenth of the tile size (wear, dirt, gloss),
+    /// with thin grout lines a little darker.
+    Flooring {
+        /// Tile size.
+        cell: f32,
+        /// How far a tile's albedo is off the background's (share of it).
+        contrast: f32,
+    },
     /// Vertical stripes of random albedo, broken at staggered heights.
     Stripes {
         /// Stripe width.
@@ -87,6 +96,9 @@ impl Material {
                 density,
             } => posters(seed, self.base, (cell_u, cell_v, density), u, v),
             Pattern::Tiles { cell } => tiles(seed, self.base, cell, u, v),
+            Pattern::Flooring { cell, contrast } => {
+                flooring(seed, self.base, (cell, contrast), u, v)
+            }
             Pattern::Stripes { width } => stripes(seed, width, u, v),
             Pattern::Blobs { cell } => blobs(seed, self.base, cell, u, v),
             Pattern::Windows { cell_u, cell_v } => windows(seed, self.base, cell_u, cell_v, u, v),
@@ -150,6 +162,17 @@ fn tiles(seed: u64, base: f32, cell: f32, u: f32, v: f32) -> f32 {
     0.12 + 0.76 * unit(cell_hash(seed, 2, i, j))
 }
 
+fn flooring(seed: u64, base: f32, (cell, contrast): (f32, f32), u: f32, v: f32) -> f32 {
+    let (i, j, fu, fv) = cell_of(u, v, cell, cell);
+    let grout = 0.01 / cell;
+    if fu < grout || fv < grout {
+        return base * 0.8;
+    }
+    let tile = 2.0 * unit(cell_hash(seed, 9, i, j)) - 1.0;
+    let mottle = 2.0 * value_noise(seed ^ 0x3077, 10.0 * u / cell, 10.0 * v / cell) - 1.0;
+    base * (1.0 + contrast * tile) * (1.0 + contrast * mottle)
+}
+
 fn stripes(seed: u64, width: f32, u: f32, v: f32) -> f32 {
     let k = (u / width).floor();
     let offset = 1.5 * unit(cell_hash(seed, 3, k, 0.0));
@@ -209,7 +232,7 @@ fn road(seed: u64, base: f32, u: f32, v: f32) -> f32 {
 mod tests {
     use super::*;
 
-    const ALL: [Pattern; 7] = [
+    const ALL: [Pattern; 8] = [
         Pattern::Plain,
         Pattern::Posters {
             cell_u: 1.5,
@@ -217,6 +240,10 @@ mod tests {
             density: 0.6,
         },
         Pattern::Tiles { cell: 0.6 },
+        Pattern::Flooring {
+            cell: 0.6,
+            contrast: 0.3,
+        },
         Pattern::Stripes { width: 0.3 },
         Pattern::Blobs { cell: 0.8 },
         Pattern::Windows {

@@ -50,13 +50,24 @@ pub(super) fn build(
     (b, motion, indoor_light())
 }
 
+/// Floor tiles of the `ouster` lab: size and contrast.
+const FLOOR_TILE_M: f32 = 0.6;
+const FLOOR_TILE_CONTRAST: f32 = 0.3;
+
 /// Floor, ceiling and four walls (0.2 m thick, outside the free volume).
 fn room(b: &mut SceneBuilder, look: Appearance) {
     let (x, y, t) = (HALF_X, HALF_Y, 0.2);
     // A real hall's floor is one material, not a checkerboard (same random draws).
     let (floor_pattern, lo, hi) = match look {
         Appearance::Ideal => (Pattern::Tiles { cell: 0.6 }, 0.3, 0.5),
-        Appearance::Ouster => (Pattern::Plain, 0.12, 0.2),
+        Appearance::Ouster => (
+            Pattern::Flooring {
+                cell: FLOOR_TILE_M,
+                contrast: FLOOR_TILE_CONTRAST,
+            },
+            0.12,
+            0.2,
+        ),
     };
     let floor = b.material(floor_pattern, lo, hi);
     b.structure(Object::aabb_box(
