@@ -77,9 +77,9 @@ pub struct SimConfig {
     /// carried sensor); 0 with `speed_scale = 0` holds the sensor still.
     pub sway_scale: f64,
     /// `ideal` (the shading model alone), or `ouster`: what real OS0-128 signal images show
-    /// — their signal level, per-beam gains, noise and near-field fall-off, weak returns that
-    /// break up — and, in the lab, a hall's painted walls, plain floor and clutter
-    /// (docs/results/sim-realism.md).
+    /// — their signal level, per-beam gains that wander with range, noise and near-field
+    /// fall-off, weak returns that break up — and, in the lab, a hall's painted walls, tiled
+    /// floor and clutter (docs/results/sim-realism.md).
     pub appearance: crate::Appearance,
 }
 
