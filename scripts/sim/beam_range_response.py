@@ -2,7 +2,10 @@
 every pixel whose vertical neighbours (rows ±1, ±2) lie on the same surface (range within
 10 % + 5 cm), the log of the pixel over their mean; per beam and range bin, the median of it;
 minus the beam's median over all ranges. Prints, per range bin, the spread (standard
-deviation) of that over the beams: 0 if every beam's gain is the same at every range.
+deviation) of that over the beams: 0 if every beam's gain is the same at every range. Also
+prints the median |log ratio| (minus each beam's median) over all such pixels and its
+autocorrelation along the row (lags in columns): how strong and how long the row-to-row
+streaks on one surface are.
 
     target/py-venv/bin/python scripts/sim/beam_range_response.py \
         ../shared/data/ouster/OS-0-128_v3.0.1_1024x10_from_osf.pcap
@@ -45,6 +48,7 @@ def main():
     ratio = np.concatenate(ratios, axis=1)
     rng = np.concatenate(ranges, axis=1)
     beam_median = np.nanmedian(ratio, axis=1)
+    streaks(ratios)
     print("range (m)   pixels  beams  spread over beams")
     for lo, hi in zip(BINS[:-1], BINS[1:]):
         r = np.where((rng >= lo) & (rng < hi), ratio, np.nan)
@@ -54,6 +58,20 @@ def main():
         beams = int(np.sum(~np.isnan(dev)))
         spread = f"{np.nanstd(dev):.3f}" if beams >= 10 else "–"
         print(f"{lo:4.1f}–{hi:<5.1f} {int(n.sum()):8d}  {beams:5d}  {spread}")
+
+
+def streaks(ratios):
+    amplitude, lags = [], {k: [] for k in (1, 2, 4, 8, 16, 32)}
+    for r in ratios:
+        r = r - np.nanmedian(r, axis=1, keepdims=True)
+        amplitude.append(np.nanmedian(np.abs(r)))
+        var = np.nanvar(r)
+        for k, acc in lags.items():
+            a, b = r[:, :-k], r[:, k:]
+            both = ~np.isnan(a) & ~np.isnan(b)
+            acc.append(np.mean(a[both] * b[both]) / var)
+    ac = ", ".join(f"{k}: {np.mean(v):.2f}" for k, v in lags.items())
+    print(f"median |log ratio| {np.mean(amplitude):.3f}; along the row, autocorrelation {ac}")
 
 
 if __name__ == "__main__":
