@@ -142,7 +142,7 @@ pub enum SimFormat {
 pub struct SimArgs {
     #[command(subcommand)]
     pub command: Option<SimCommand>,
-    /// Scene: lab, corridor or road.
+    /// Scene: lab, corridor, road or park.
     #[arg(long, default_value = "lab")]
     pub scene: String,
     /// Number of frames.

@@ -18,6 +18,10 @@ pub enum SceneKind {
     /// A closed loop road of ~750 m with buildings, gaps, poles, trees and parked cars;
     /// the sensor drives at ~8 m/s.
     Road,
+    /// An unstructured outdoor scene: a ~270 m gravel path through a wooded park over
+    /// rolling grass (trees, bushes, rocks, mounds, a few benches and lamp posts); the sensor
+    /// is carried at ~1.4 m/s.
+    Park,
 }
 
 impl SceneKind {
@@ -27,6 +31,7 @@ impl SceneKind {
             Self::Lab => "lab",
             Self::Corridor => "corridor",
             Self::Road => "road",
+            Self::Park => "park",
         }
     }
 }
@@ -51,7 +56,7 @@ pub const ALLOWED_COLUMNS: [usize; 3] = [512, 1024, 2048];
 #[derive(Serialize, Deserialize, JsonSchema, Clone, Debug, PartialEq)]
 #[serde(default, deny_unknown_fields)]
 pub struct SimConfig {
-    /// Synthetic world: `lab`, `corridor` or `road`.
+    /// Synthetic world: `lab`, `corridor`, `road` or `park`.
     pub scene: SceneKind,
     /// Number of frames (sensor revolutions) to produce, at least 1.
     pub frames: usize,

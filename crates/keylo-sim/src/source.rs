@@ -8,7 +8,7 @@ use crate::{SimConfig, SimError, Simulator};
 
 /// One-line summary shown by `keylo config` and the docs.
 const SUMMARY: &str =
-    "Simulated Ouster-like LiDAR (OS0-128/OS1-64) in a lab, corridor or road scene, with ground truth";
+    "Simulated Ouster-like LiDAR (OS0-128/OS1-64) in a lab, corridor, road or park scene, with ground truth";
 
 impl From<SimError> for CoreError {
     fn from(e: SimError) -> Self {

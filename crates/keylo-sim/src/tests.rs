@@ -54,6 +54,7 @@ fn ground_truth_starts_at_identity_and_is_continuous() {
         (SceneKind::Lab, 1.0),
         (SceneKind::Corridor, 1.2),
         (SceneKind::Road, 8.0),
+        (SceneKind::Park, 1.4),
     ] {
         let c = SimConfig {
             scene,
@@ -190,6 +191,7 @@ fn channels_are_sane_and_scenes_mostly_valid() {
         (SceneKind::Lab, SensorKind::Os1_64, 0.9),
         (SceneKind::Corridor, SensorKind::Os1_64, 0.8),
         (SceneKind::Road, SensorKind::Os1_64, 0.3),
+        (SceneKind::Park, SensorKind::Os0_128, 0.4),
     ];
     for (scene, sensor, min_fraction) in cases {
         let c = SimConfig {

@@ -38,6 +38,14 @@ pub enum Pattern {
         /// How far a tile's albedo is off the background's (share of it).
         contrast: f32,
     },
+    /// One material with a fine mottle (gravel, soil, grass): albedo `± contrast` of the
+    /// background's, varying smoothly over `cell`.
+    Mottled {
+        /// Size of a mottle.
+        cell: f32,
+        /// How far the albedo strays from the background's (share of it).
+        contrast: f32,
+    },
     /// Vertical stripes of random albedo, broken at staggered heights.
     Stripes {
         /// Stripe width.
@@ -98,6 +106,9 @@ impl Material {
             Pattern::Tiles { cell } => tiles(seed, self.base, cell, u, v),
             Pattern::Flooring { cell, contrast } => {
                 flooring(seed, self.base, (cell, contrast), u, v)
+            }
+            Pattern::Mottled { cell, contrast } => {
+                self.base * mottle(seed, contrast, u / cell, v / cell)
             }
             Pattern::Stripes { width } => stripes(seed, width, u, v),
             Pattern::Blobs { cell } => blobs(seed, self.base, cell, u, v),
@@ -169,8 +180,12 @@ fn flooring(seed: u64, base: f32, (cell, contrast): (f32, f32), u: f32, v: f32) 
         return base * 0.8;
     }
     let tile = 2.0 * unit(cell_hash(seed, 9, i, j)) - 1.0;
-    let mottle = 2.0 * value_noise(seed ^ 0x3077, 10.0 * u / cell, 10.0 * v / cell) - 1.0;
-    base * (1.0 + contrast * tile) * (1.0 + contrast * mottle)
+    base * (1.0 + contrast * tile) * mottle(seed, contrast, 10.0 * u / cell, 10.0 * v / cell)
+}
+
+/// A factor `1 ± contrast` varying smoothly over the unit lattice of `(x, y)`.
+fn mottle(seed: u64, contrast: f32, x: f32, y: f32) -> f32 {
+    1.0 + contrast * (2.0 * value_noise(seed ^ 0x3077, x, y) - 1.0)
 }
 
 fn stripes(seed: u64, width: f32, u: f32, v: f32) -> f32 {
@@ -232,7 +247,7 @@ fn road(seed: u64, base: f32, u: f32, v: f32) -> f32 {
 mod tests {
     use super::*;
 
-    const ALL: [Pattern; 8] = [
+    const ALL: [Pattern; 9] = [
         Pattern::Plain,
         Pattern::Posters {
             cell_u: 1.5,
@@ -243,6 +258,10 @@ mod tests {
         Pattern::Flooring {
             cell: 0.6,
             contrast: 0.3,
+        },
+        Pattern::Mottled {
+            cell: 0.2,
+            contrast: 0.4,
         },
         Pattern::Stripes { width: 0.3 },
         Pattern::Blobs { cell: 0.8 },

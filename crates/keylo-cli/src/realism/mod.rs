@@ -32,7 +32,7 @@ pub struct RealismArgs {
     /// Real images used (the first N).
     #[arg(long, default_value_t = 100)]
     pub real_frames: usize,
-    /// Scene simulated: lab, corridor, road (see `keylo sim --help`).
+    /// Scene simulated: lab, corridor, road, park (see `keylo sim --help`).
     #[arg(long, default_value = "lab")]
     pub scene: String,
     /// Simulated frames per seed.

@@ -3,6 +3,8 @@
 mod builder;
 mod corridor;
 mod lab;
+mod park;
+mod path_frame;
 mod road;
 
 use parry3d::math::Vector as GVec;
@@ -52,6 +54,7 @@ impl Scene {
             SceneKind::Lab => lab::build(seed, speed_scale, look),
             SceneKind::Corridor => corridor::build(seed, speed_scale),
             SceneKind::Road => road::build(seed, speed_scale),
+            SceneKind::Park => park::build(seed, speed_scale),
         };
         let motion = motion.with_sway_scaled(sway_scale);
         let world = builder.finish(kind.name(), &motion)?;
@@ -80,7 +83,12 @@ mod tests {
 
     #[test]
     fn every_scene_builds_and_keeps_the_path_clear() {
-        for kind in [SceneKind::Lab, SceneKind::Corridor, SceneKind::Road] {
+        for kind in [
+            SceneKind::Lab,
+            SceneKind::Corridor,
+            SceneKind::Road,
+            SceneKind::Park,
+        ] {
             let s = Scene::build(kind, 5, 1.0, 1.0, Appearance::Ideal).unwrap();
             assert!(s.world.objects().len() > 20, "{kind:?}");
             let lap = s.motion.lap_length();

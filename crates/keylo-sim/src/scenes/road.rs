@@ -1,9 +1,9 @@
 //! `road`: a closed ~750 m loop road with building blocks (with gaps) on both sides, poles,
 //! trees and parked cars; the sensor drives along the centre line at ~8 m/s.
 
-use nalgebra::Vector2;
 use rand::Rng;
 
+use super::path_frame::PathFrame;
 use super::{Ambient, SceneBuilder};
 use crate::motion::{Curve, Motion, Sway};
 use crate::texture::Pattern;
@@ -16,36 +16,6 @@ const SPEED: f64 = 8.0;
 const SLAB: f64 = 8.0;
 /// Half width of the paved road.
 const ROAD_HALF_WIDTH: f32 = 7.0;
-
-/// A frame along the road centre line: point, unit tangent, unit left normal.
-struct Frame2 {
-    p: Vector2<f64>,
-    t: Vector2<f64>,
-    n: Vector2<f64>,
-}
-
-impl Frame2 {
-    fn at(motion: &Motion, s: f64) -> Self {
-        let p = motion.position_at_distance(s);
-        let d = motion.position_at_distance(s + 0.5) - motion.position_at_distance(s - 0.5);
-        let t = d.try_normalize(1e-12).unwrap_or(Vector2::x());
-        Self {
-            p,
-            t,
-            n: Vector2::new(-t.y, t.x),
-        }
-    }
-
-    /// World point `along` metres ahead and `lateral` metres to the left.
-    fn offset(&self, along: f64, lateral: f64) -> [f32; 2] {
-        let q = self.p + self.t * along + self.n * lateral;
-        [q.x as f32, q.y as f32]
-    }
-
-    fn yaw(&self) -> f32 {
-        self.t.y.atan2(self.t.x) as f32
-    }
-}
 
 /// Builds the road loop and its surroundings.
 pub(super) fn build(seed: u64, speed_scale: f64) -> (SceneBuilder, Motion, Ambient) {
@@ -91,7 +61,7 @@ fn ground(b: &mut SceneBuilder, motion: &Motion) {
     let n = (motion.lap_length() / SLAB).ceil() as usize;
     let step = motion.lap_length() / n as f64;
     for k in 0..n {
-        let f = Frame2::at(motion, (k as f64 + 0.5) * step);
+        let f = PathFrame::at(motion, (k as f64 + 0.5) * step);
         let [x, y] = f.offset(0.0, 0.0);
         let half = [0.5 * step as f32 + 0.3, ROAD_HALF_WIDTH, 0.05];
         b.structure(Object::cuboid([x, y, -0.04], half, f.yaw(), asphalt));
@@ -106,7 +76,7 @@ fn buildings(b: &mut SceneBuilder, motion: &Motion, side: f64) {
         let len = b.rng.random_range(12.0..35.0);
         let depth = b.rng.random_range(8.0..20.0);
         let height = b.rng.random_range(6.0..25.0f32);
-        let f = Frame2::at(motion, s + 0.5 * len);
+        let f = PathFrame::at(motion, s + 0.5 * len);
         let [x, y] = f.offset(0.0, side * (13.0 + 0.5 * depth));
         let pattern = if b.rng.random_bool(0.7) {
             Pattern::Windows {
@@ -128,7 +98,7 @@ fn poles_and_trees(b: &mut SceneBuilder, motion: &Motion, side: f64) {
     let lap = motion.lap_length();
     let mut s = b.rng.random_range(0.0..10.0);
     while s < lap - 5.0 {
-        let f = Frame2::at(motion, s);
+        let f = PathFrame::at(motion, s);
         if b.rng.random_bool(0.4) {
             let [x, y] = f.offset(0.0, side * 8.0);
             let m = b.material(Pattern::Stripes { width: 0.05 }, 0.3, 0.6);
@@ -167,7 +137,7 @@ fn parked_cars(b: &mut SceneBuilder, motion: &Motion) {
     while s < lap - 10.0 {
         let side = if b.rng.random_bool(0.5) { 1.0 } else { -1.0 };
         for _ in 0..b.rng.random_range(1..5) {
-            let f = Frame2::at(motion, s);
+            let f = PathFrame::at(motion, s);
             let [x, y] = f.offset(0.0, side * 5.2);
             let p = b.prop_pattern();
             let paint = b.material(p, 0.1, 0.9);
