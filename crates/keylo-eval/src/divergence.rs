@@ -1,7 +1,9 @@
 //! Whether a run diverged, the way `keylo compare` judges its runs (and `keylo.compare` from
 //! Python, with the same numbers): a pose that is not finite, one step between consecutive
 //! poses longer than a bound, or an aligned translation error (APE, `evo_ape -a`) larger than
-//! a bound.
+//! a bound. Where SE(3) alignment is impossible (an estimate that never moved has no spread
+//! to align), the error is taken with the first poses aligned instead, so a run stuck in place
+//! is judged by how far the ground truth went.
 
 use keylo_core::Trajectory;
 use serde::Serialize;
@@ -53,6 +55,67 @@ impl Verdict {
     }
 }
 
+/// The largest translation error a verdict is judged on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum VerdictApe {
+    /// After SE(3) alignment (`evo_ape -a`), metres.
+    Aligned(f64),
+    /// With the first poses aligned (evo `--align_origin`), metres: where SE(3) alignment is
+    /// impossible.
+    OriginAligned(f64),
+}
+
+impl VerdictApe {
+    /// The error, metres.
+    pub fn metres(self) -> f64 {
+        match self {
+            Self::Aligned(m) | Self::OriginAligned(m) => m,
+        }
+    }
+}
+
+/// The largest translation error of `estimate` against `ground_truth` (poses paired within
+/// `t_max_diff_s`) with the first pair's poses made to coincide.
+pub fn origin_aligned_max(
+    estimate: &Trajectory,
+    ground_truth: &Trajectory,
+    t_max_diff_s: f64,
+) -> Result<f64, EvalError> {
+    let opts = AssociateOptions {
+        max_diff: t_max_diff_s,
+        ..AssociateOptions::default()
+    };
+    let pairs = associate_labeled(ground_truth, "ground truth", estimate, "estimate", &opts)?;
+    pairs.ensure_paired()?;
+    let (Some(r0), Some(e0)) = (pairs.reference.poses.first(), pairs.estimate.poses.first()) else {
+        return Ok(0.0);
+    };
+    let to_reference = r0 * e0.inverse();
+    Ok(pairs
+        .reference
+        .poses
+        .iter()
+        .zip(&pairs.estimate.poses)
+        .map(|(r, e)| ((to_reference * e).translation.vector - r.translation.vector).norm())
+        .fold(0.0, f64::max))
+}
+
+/// The error a verdict on `estimate` is judged on: the SE(3)-aligned APE's largest
+/// ([`aligned_ape`]) or, where that alignment is impossible, [`origin_aligned_max`]; `None`
+/// when the two cannot be paired.
+pub fn verdict_ape(
+    estimate: &Trajectory,
+    ground_truth: &Trajectory,
+    t_max_diff_s: f64,
+) -> Option<VerdictApe> {
+    match aligned_ape(estimate, ground_truth, t_max_diff_s) {
+        Ok((_, result)) => Some(VerdictApe::Aligned(result.translation.max)),
+        Err(_) => origin_aligned_max(estimate, ground_truth, t_max_diff_s)
+            .ok()
+            .map(VerdictApe::OriginAligned),
+    }
+}
+
 /// An estimate's APE against ground truth: the pairs (stamps within `t_max_diff_s`) and the
 /// error after SE(3) Umeyama alignment, as `evo_ape -a`.
 pub fn aligned_ape(
@@ -69,12 +132,12 @@ pub fn aligned_ape(
     Ok((pairs, result))
 }
 
-/// The verdict on `estimate` and why. `max_ape_m` is its largest aligned translation error
-/// ([`aligned_ape`]), `None` without one; `has_ground_truth` says whether there was ground
-/// truth to pair with (for the reason given).
+/// The verdict on `estimate` and why. `ape` is its largest translation error against ground
+/// truth ([`verdict_ape`]), `None` without one; `has_ground_truth` says whether there was
+/// ground truth to pair with (for the reason given).
 pub fn judge(
     estimate: &Trajectory,
-    max_ape_m: Option<f64>,
+    ape: Option<VerdictApe>,
     has_ground_truth: bool,
     criterion: &Criterion,
 ) -> (Verdict, String) {
@@ -92,14 +155,18 @@ pub fn judge(
             format!("a step of {step:.2} m > {} m", criterion.max_step_m),
         );
     }
-    match max_ape_m {
+    let how = match ape {
+        Some(VerdictApe::OriginAligned(_)) => " (first poses aligned: SE(3) alignment impossible)",
+        _ => "",
+    };
+    match ape.map(VerdictApe::metres) {
         Some(m) if m > criterion.max_ape_m => (
             Verdict::Diverged,
-            format!("max APE {m:.2} m > {} m", criterion.max_ape_m),
+            format!("max APE {m:.2} m > {} m{how}", criterion.max_ape_m),
         ),
         Some(m) => (
             Verdict::Ok,
-            format!("max APE {m:.3} m, largest step {step:.2} m"),
+            format!("max APE {m:.3} m{how}, largest step {step:.2} m"),
         ),
         None if has_ground_truth => (Verdict::Ok, "no APE (trajectory not associable)".into()),
         None => (Verdict::Ok, "no ground truth: step check only".into()),
@@ -131,17 +198,17 @@ mod tests {
     #[test]
     fn each_bound_gives_its_reason() {
         let c = Criterion::default();
-        let (v, why) = judge(&line(&[1.0, 1.0]), Some(0.5), true, &c);
+        let (v, why) = judge(&line(&[1.0, 1.0]), Some(VerdictApe::Aligned(0.5)), true, &c);
         assert_eq!(
             (v, why.as_str()),
             (Verdict::Ok, "max APE 0.500 m, largest step 1.00 m")
         );
-        let (v, why) = judge(&line(&[1.0, 6.0]), Some(0.5), true, &c);
+        let (v, why) = judge(&line(&[1.0, 6.0]), Some(VerdictApe::Aligned(0.5)), true, &c);
         assert_eq!(
             (v, why.as_str()),
             (Verdict::Diverged, "a step of 6.00 m > 5 m")
         );
-        let (v, why) = judge(&line(&[1.0]), Some(2.5), true, &c);
+        let (v, why) = judge(&line(&[1.0]), Some(VerdictApe::Aligned(2.5)), true, &c);
         assert_eq!(
             (v, why.as_str()),
             (Verdict::Diverged, "max APE 2.50 m > 2 m")
@@ -168,5 +235,36 @@ mod tests {
         let (pairs, r) = aligned_ape(&est, &gt, 0.01).expect("pairs");
         assert_eq!(pairs.len(), 4);
         assert!(r.translation.max < 1e-9, "{}", r.translation.max);
+    }
+
+    #[test]
+    fn a_run_that_never_moved_is_judged_with_the_first_poses_aligned() {
+        let gt = line(&[1.0, 1.0, 1.0]);
+        let stuck = line(&[0.0, 0.0, 0.0]);
+        // SE(3) alignment needs the estimate to spread in space.
+        assert!(aligned_ape(&stuck, &gt, 0.01).is_err());
+        let ape = verdict_ape(&stuck, &gt, 0.01);
+        assert_eq!(ape, Some(VerdictApe::OriginAligned(3.0)));
+        let (v, why) = judge(&stuck, ape, true, &Criterion::default());
+        assert_eq!(
+            (v, why.as_str()),
+            (
+                Verdict::Diverged,
+                "max APE 3.00 m > 2 m (first poses aligned: SE(3) alignment impossible)"
+            )
+        );
+        // Standing still against a still ground truth is no error.
+        let still = verdict_ape(&stuck, &line(&[0.0, 0.0, 0.0]), 0.01);
+        assert_eq!(still, Some(VerdictApe::OriginAligned(0.0)));
+        assert_eq!(
+            judge(&stuck, still, true, &Criterion::default()).0,
+            Verdict::Ok
+        );
+        // A moving estimate keeps the SE(3)-aligned figure.
+        let moved = verdict_ape(&gt, &gt, 0.01);
+        assert!(
+            matches!(moved, Some(VerdictApe::Aligned(m)) if m < 1e-9),
+            "{moved:?}"
+        );
     }
 }

@@ -1,7 +1,7 @@
 //! `keylo.judge`: `keylo compare`'s verdict on one run (ok or diverged, and why) with its
 //! aligned-APE figures, for `keylo.compare`'s records.
 
-use keylo::eval::divergence::{aligned_ape, judge as judge_rs, Criterion};
+use keylo::eval::divergence::{aligned_ape, judge as judge_rs, verdict_ape, Criterion};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -34,15 +34,19 @@ pub fn judge<'py>(
     let (estimate, figures) = match gt {
         Some(gt) => {
             let (e, g) = paired(est, est_stamps, gt, gt_stamps)?;
-            let ape = py.detach(|| aligned_ape(&e.trajectory, &g.trajectory, t_max_diff).ok());
-            (e.trajectory, Some(ape))
+            let (e, g) = (&e.trajectory, &g.trajectory);
+            let found = py.detach(|| {
+                let ape = aligned_ape(e, g, t_max_diff).ok();
+                (ape, verdict_ape(e, g, t_max_diff))
+            });
+            (e.clone(), Some(found))
         }
         None => (trajectory_of(est, est_stamps, "est")?.trajectory, None),
     };
     let has_ground_truth = figures.is_some();
-    let ape = figures.flatten();
+    let (ape, for_verdict) = figures.unwrap_or((None, None));
     let max_ape_m = ape.as_ref().map(|(_, r)| r.translation.max);
-    let (verdict, reason) = judge_rs(&estimate, max_ape_m, has_ground_truth, &criterion);
+    let (verdict, reason) = judge_rs(&estimate, for_verdict, has_ground_truth, &criterion);
     out.set_item("verdict", verdict.as_str())?;
     out.set_item("reason", reason)?;
     out.set_item("associated_poses", ape.as_ref().map(|(p, _)| p.len()))?;

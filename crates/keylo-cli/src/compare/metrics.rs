@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use keylo::eval::divergence::{aligned_ape, judge};
+use keylo::eval::divergence::{aligned_ape, judge, verdict_ape, VerdictApe};
 use keylo::Trajectory;
 use serde::Serialize;
 use serde_json::Value;
@@ -104,6 +104,7 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
         .gt
         .as_ref()
         .and_then(|p| trajectories::Labelled::read(p).ok());
+    let mut ape = None;
     if let (Some(e), Some(g)) = (est.as_mut(), gt.as_mut()) {
         // A KITTI ground truth has no stamps: pair it one for one, as `keylo run` does.
         if trajectories::reconcile(e, g).is_ok() {
@@ -114,6 +115,7 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
                 &mut row,
                 &mut series,
             );
+            ape = verdict_ape(&e.trajectory, &g.trajectory, crit.t_max_diff_s);
         }
     }
     let est = est.map(|l| l.trajectory);
@@ -150,7 +152,7 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
             .unwrap_or_else(|| "no summary.json".into());
         ("failed", why)
     } else {
-        divergence(est.as_ref(), &row, crit, gt.is_some())
+        divergence(est.as_ref(), ape, crit, gt.is_some())
     };
     row.verdict = verdict.into();
     row.reason = reason;
@@ -159,14 +161,14 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
 
 fn divergence(
     est: Option<&Trajectory>,
-    row: &Row,
+    ape: Option<VerdictApe>,
     crit: &Criterion,
     has_gt: bool,
 ) -> (&'static str, String) {
     let Some(est) = est else {
         return ("failed", "no trajectory.tum".into());
     };
-    let (verdict, reason) = judge(est, row.trans_max_m, has_gt, crit);
+    let (verdict, reason) = judge(est, ape, has_gt, crit);
     (verdict.as_str(), reason)
 }
 
