@@ -108,3 +108,20 @@ def test_a_run_stopped_by_bad_data_keeps_its_frames(keylo_bin, configs_and_data)
     assert ours[0]["reason"].startswith("stopped at frame 6: ") and "000006.klf" in ours[0]["reason"]
     assert ours[0]["associated_poses"] == 6
     assert_same_rows(cli, ours)
+
+
+def test_judge_calls_a_run_that_never_moved_diverged():
+    """SE(3) alignment needs an estimate that spreads in space: one stuck at the origin is
+    judged with the first poses aligned, against how far the ground truth went."""
+    import numpy as np
+
+    stamps = [0.1 * i for i in range(5)]
+    truth = np.tile(np.eye(4), (5, 1, 1))
+    truth[:, 0, 3] = np.arange(5.0)
+    stuck = np.tile(np.eye(4), (5, 1, 1))
+    row = keylo.judge(stuck, truth, est_stamps=stamps, gt_stamps=stamps)
+    assert row["verdict"] == "diverged"
+    assert row["reason"] == "max APE 4.00 m > 2 m (first poses aligned: SE(3) alignment impossible)"
+    assert row["trans_max_m"] is None  # no SE(3)-aligned figures to report
+    moving = keylo.judge(truth, truth, est_stamps=stamps, gt_stamps=stamps)
+    assert moving["verdict"] == "ok" and moving["trans_max_m"] < 1e-9
