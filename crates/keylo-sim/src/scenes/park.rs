@@ -4,12 +4,14 @@
 //! the path at ~1.4 m/s. Vegetation is bright at the sensor's 865 nm (leaves and grass reflect
 //! 40–60 % there), bark and soil darker.
 
+use std::ops::Range;
+
 use rand::Rng;
 
-use super::path_frame::PathFrame;
+use super::path_frame::{pave, PathFrame, Paving};
 use super::{Ambient, SceneBuilder};
 use crate::motion::{Curve, Motion, Sway};
-use crate::texture::Pattern;
+use crate::texture::{Material, Pattern};
 use crate::world::Object;
 use parry3d::math::Vector as GVec;
 
@@ -54,37 +56,32 @@ pub(super) fn build(seed: u64, speed_scale: f64) -> (SceneBuilder, Motion, Ambie
     (b, motion, ambient)
 }
 
+/// A mottled material (grass, leaves, gravel, stone): mottles of `cell` metres, albedo
+/// `± contrast` around a base drawn in `albedo`.
+fn mottled(b: &mut SceneBuilder, cell: f32, contrast: f32, albedo: Range<f32>) -> Material {
+    b.material(
+        Pattern::Mottled { cell, contrast },
+        albedo.start,
+        albedo.end,
+    )
+}
+
 /// Grass everywhere, and the gravel path's slabs along the centre line.
 fn ground(b: &mut SceneBuilder, motion: &Motion) {
-    let grass = b.material(
-        Pattern::Mottled {
-            cell: 0.35,
-            contrast: 0.35,
-        },
-        0.35,
-        0.5,
-    );
+    let grass = mottled(b, 0.35, 0.35, 0.35..0.5);
     b.structure(Object::aabb_box(
         [-110.0, -90.0, -1.0],
         [110.0, 90.0, 0.0],
         grass,
     ));
-    let gravel = b.material(
-        Pattern::Mottled {
-            cell: 0.08,
-            contrast: 0.3,
-        },
-        0.25,
-        0.35,
-    );
-    let n = (motion.lap_length() / SLAB).ceil() as usize;
-    let step = motion.lap_length() / n as f64;
-    for k in 0..n {
-        let f = PathFrame::at(motion, (k as f64 + 0.5) * step);
-        let [x, y] = f.offset(0.0, 0.0);
-        let half = [0.5 * step as f32 + 0.2, PATH_HALF_WIDTH, 0.05];
-        b.structure(Object::cuboid([x, y, -0.03], half, f.yaw(), gravel));
-    }
+    let gravel = mottled(b, 0.08, 0.3, 0.25..0.35);
+    let paving = Paving {
+        length: SLAB,
+        overlap: 0.2,
+        half_width: PATH_HALF_WIDTH,
+        z: -0.03,
+    };
+    pave(b, motion, &paving, gravel);
 }
 
 /// Low grassy mounds (caps of large buried balls) beside the path, clear of it.
@@ -98,14 +95,7 @@ fn mounds(b: &mut SceneBuilder, motion: &Motion) {
         let side = if b.rng.random_bool(0.5) { 1.0 } else { -1.0 };
         let lateral = f64::from(PATH_HALF_WIDTH + foot) + b.rng.random_range(1.0..12.0);
         let [x, y] = PathFrame::at(motion, s).offset(0.0, side * lateral);
-        let turf = b.material(
-            Pattern::Mottled {
-                cell: 0.3,
-                contrast: 0.35,
-            },
-            0.3,
-            0.5,
-        );
+        let turf = mottled(b, 0.3, 0.35, 0.3..0.5);
         b.prop(Object::ball([x, y, height - radius], radius, turf));
         s += b.rng.random_range(12.0..30.0);
     }
@@ -146,14 +136,7 @@ fn tree(b: &mut SceneBuilder, x: f32, y: f32) {
         return;
     }
     let cell = b.rng.random_range(0.15..0.4);
-    let leaves = b.material(
-        Pattern::Mottled {
-            cell,
-            contrast: 0.5,
-        },
-        0.35,
-        0.6,
-    );
+    let leaves = mottled(b, cell, 0.5, 0.35..0.6);
     let spread = 1.0 + 6.0 * trunk_r;
     for _ in 0..b.rng.random_range(3..7) {
         let r = spread * b.rng.random_range(0.35..0.7f32);
@@ -166,14 +149,7 @@ fn tree(b: &mut SceneBuilder, x: f32, y: f32) {
 
 /// A bush: two to four leafy lobes on the ground.
 fn bush(b: &mut SceneBuilder, x: f32, y: f32) {
-    let leaves = b.material(
-        Pattern::Mottled {
-            cell: 0.15,
-            contrast: 0.5,
-        },
-        0.3,
-        0.55,
-    );
+    let leaves = mottled(b, 0.15, 0.5, 0.3..0.55);
     for _ in 0..b.rng.random_range(2..5) {
         let r = b.rng.random_range(0.25..0.8f32);
         let dx = b.rng.random_range(-0.6..0.6f32);
@@ -184,14 +160,7 @@ fn bush(b: &mut SceneBuilder, x: f32, y: f32) {
 
 /// A rock, half buried, turned at random.
 fn rock(b: &mut SceneBuilder, x: f32, y: f32) {
-    let stone = b.material(
-        Pattern::Mottled {
-            cell: 0.1,
-            contrast: 0.3,
-        },
-        0.15,
-        0.4,
-    );
+    let stone = mottled(b, 0.1, 0.3, 0.15..0.4);
     let half = [
         b.rng.random_range(0.15..0.6f32),
         b.rng.random_range(0.15..0.5f32),

@@ -2,7 +2,10 @@
 
 use nalgebra::Vector2;
 
+use super::SceneBuilder;
 use crate::motion::Motion;
+use crate::texture::Material;
+use crate::world::Object;
 
 /// A frame along the path: point, unit tangent, unit left normal.
 pub(super) struct PathFrame {
@@ -33,5 +36,26 @@ impl PathFrame {
     /// Heading of the path, radians.
     pub fn yaw(&self) -> f32 {
         self.t.y.atan2(self.t.x) as f32
+    }
+}
+
+/// How to pave a path: slabs about `length` metres long (overlapping by `overlap` at each end),
+/// `half_width` to either side of the centre line, 0.1 m thick with their centre at `z`.
+pub(super) struct Paving {
+    pub length: f64,
+    pub overlap: f32,
+    pub half_width: f32,
+    pub z: f32,
+}
+
+/// Paves `motion`'s whole path with slabs of `material` (structure: the path runs on them).
+pub(super) fn pave(b: &mut SceneBuilder, motion: &Motion, paving: &Paving, material: Material) {
+    let n = (motion.lap_length() / paving.length).ceil() as usize;
+    let step = motion.lap_length() / n as f64;
+    for k in 0..n {
+        let f = PathFrame::at(motion, (k as f64 + 0.5) * step);
+        let [x, y] = f.offset(0.0, 0.0);
+        let half = [0.5 * step as f32 + paving.overlap, paving.half_width, 0.05];
+        b.structure(Object::cuboid([x, y, paving.z], half, f.yaw(), material));
     }
 }

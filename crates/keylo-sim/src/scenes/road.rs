@@ -3,7 +3,7 @@
 
 use rand::Rng;
 
-use super::path_frame::PathFrame;
+use super::path_frame::{pave, PathFrame, Paving};
 use super::{Ambient, SceneBuilder};
 use crate::motion::{Curve, Motion, Sway};
 use crate::texture::Pattern;
@@ -58,14 +58,13 @@ fn ground(b: &mut SceneBuilder, motion: &Motion) {
         paving,
     ));
     let asphalt = b.material(Pattern::Road, 0.1, 0.14);
-    let n = (motion.lap_length() / SLAB).ceil() as usize;
-    let step = motion.lap_length() / n as f64;
-    for k in 0..n {
-        let f = PathFrame::at(motion, (k as f64 + 0.5) * step);
-        let [x, y] = f.offset(0.0, 0.0);
-        let half = [0.5 * step as f32 + 0.3, ROAD_HALF_WIDTH, 0.05];
-        b.structure(Object::cuboid([x, y, -0.04], half, f.yaw(), asphalt));
-    }
+    let paving = Paving {
+        length: SLAB,
+        overlap: 0.3,
+        half_width: ROAD_HALF_WIDTH,
+        z: -0.04,
+    };
+    pave(b, motion, &paving, asphalt);
 }
 
 /// Building blocks 13 m or more from the centre line, with gaps between them.
