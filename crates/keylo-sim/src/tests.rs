@@ -26,13 +26,28 @@ fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
 
 #[test]
 fn same_seed_gives_identical_frames_whatever_the_threads() {
-    let a = sim(SceneKind::Lab, 7, 512);
-    let b = sim(SceneKind::Lab, 7, 512);
-    let fa = in_pool(1, || a.frame(2));
-    let fb = in_pool(3, || b.frame(2));
-    assert_eq!(fa, fb);
-    let bits = |f: &LidarFrame| f.range.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&fa), bits(&fb));
+    let park_ouster = |seed| {
+        Simulator::new(&SimConfig {
+            scene: SceneKind::Park,
+            seed,
+            columns: 512,
+            frames: 5,
+            appearance: crate::Appearance::Ouster,
+            ..SimConfig::default()
+        })
+        .unwrap()
+    };
+    let pairs = [
+        (sim(SceneKind::Lab, 7, 512), sim(SceneKind::Lab, 7, 512)),
+        (park_ouster(7), park_ouster(7)),
+    ];
+    for (a, b) in pairs {
+        let fa = in_pool(1, || a.frame(2));
+        let fb = in_pool(3, || b.frame(2));
+        assert_eq!(fa, fb);
+        let bits = |f: &LidarFrame| f.range.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&fa), bits(&fb));
+    }
 }
 
 #[test]
@@ -86,8 +101,15 @@ fn ground_truth_starts_at_identity_and_is_continuous() {
 }
 
 #[test]
-fn lab_points_lie_on_scene_surfaces() {
+fn points_lie_on_scene_surfaces() {
+    for (scene, min_checked) in [(SceneKind::Lab, 5000), (SceneKind::Park, 2500)] {
+        check_points_on_surfaces(scene, min_checked);
+    }
+}
+
+fn check_points_on_surfaces(scene: SceneKind, min_checked: usize) {
     let c = SimConfig {
+        scene,
         range_noise_m: 0.0,
         frames: 1,
         ..SimConfig::default()
@@ -102,12 +124,12 @@ fn lab_points_lie_on_scene_surfaces() {
             .scene()
             .world
             .surface_distance(GVec::new(p.x as f32, p.y as f32, p.z as f32));
-        assert!(d < 2e-3, "pixel {i}: {d} m off the surfaces");
+        assert!(d < 2e-3, "{scene:?} pixel {i}: {d} m off the surfaces");
         let r = f.points[i].coords.norm();
         assert!((r - f.range[i]).abs() < 1e-3);
         checked += 1;
     }
-    assert!(checked > 5000, "{checked}");
+    assert!(checked > min_checked, "{scene:?}: {checked}");
 }
 
 #[test]
