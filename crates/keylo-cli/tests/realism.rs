@@ -52,6 +52,7 @@ fn realism_writes_the_tables_and_histograms() {
         "| sim signal-stretched | ",
         "| sim range | ",
         "## Row profile",
+        "| difference | row residual | column residual |",
     ] {
         assert!(md.contains(needle), "realism.md lacks `{needle}`:\n{md}");
     }

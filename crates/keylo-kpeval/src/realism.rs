@@ -20,6 +20,9 @@ pub const GRADIENT_BIN_WIDTH: f64 = 8.0;
 /// Row bands of the row profile (eighths of the image, top first).
 pub const ROW_BANDS: usize = 8;
 
+/// Bins of the residual histograms: |pixel − mean of two neighbours| in half grey levels.
+const RESIDUAL_BINS: usize = 511;
+
 /// The mean histograms of a set of images.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Histograms {
@@ -33,6 +36,11 @@ pub struct Histograms {
     /// Mean grey level of each of [`ROW_BANDS`] bands of rows, top first: where the image is
     /// bright (ceiling, walls, floor next to the sensor).
     pub row_profile: Vec<f64>,
+    /// Share of interior pixels per |pixel − mean of the pixels above and below|, in bins of
+    /// half a grey level: how much rows differ from their neighbours (beam gains, streaks).
+    pub row_residual: Vec<f64>,
+    /// The same with the pixels left and right.
+    pub column_residual: Vec<f64>,
 }
 
 impl Histograms {
@@ -44,6 +52,8 @@ impl Histograms {
         let mut intensity = vec![0.0; 256];
         let mut gradient = vec![0.0; GRADIENT_BINS];
         let mut bands = vec![(0.0, 0usize); ROW_BANDS];
+        let mut row_residual = vec![0.0; RESIDUAL_BINS];
+        let mut column_residual = vec![0.0; RESIDUAL_BINS];
         let mut images = 0;
         for plane in planes {
             images += 1;
@@ -56,9 +66,13 @@ impl Histograms {
             add_intensity(&img.data, &mut intensity);
             add_gradient(&img.data, img.width, img.height, &mut gradient);
             add_rows(&img.data, img.width, img.height, &mut bands);
+            add_residuals(&img.data, img.width, img.width, &mut row_residual);
+            add_residuals(&img.data, img.width, 1, &mut column_residual);
         }
         normalise(&mut intensity);
         normalise(&mut gradient);
+        normalise(&mut row_residual);
+        normalise(&mut column_residual);
         Ok(Self {
             images,
             intensity,
@@ -67,7 +81,19 @@ impl Histograms {
                 .iter()
                 .map(|&(sum, n)| if n > 0 { sum / n as f64 } else { 0.0 })
                 .collect(),
+            row_residual,
+            column_residual,
         })
+    }
+
+    /// Median |pixel − mean of the pixels above and below|, grey levels.
+    pub fn median_row_residual(&self) -> f64 {
+        median_of(&self.row_residual)
+    }
+
+    /// Median |pixel − mean of the pixels left and right|, grey levels.
+    pub fn median_column_residual(&self) -> f64 {
+        median_of(&self.column_residual)
     }
 
     /// Mean grey level.
@@ -169,6 +195,41 @@ fn add_gradient(data: &[u8], width: usize, height: usize, hist: &mut [f64]) {
     }
 }
 
+/// |pixel − mean of its two neighbours `step` apart in `data`'s flat order (`width`: one row
+/// apart, vertical; 1: one column apart, horizontal) of every pixel that has both, into
+/// `hist` in half grey levels.
+fn add_residuals(data: &[u8], width: usize, step: usize, hist: &mut [f64]) {
+    if width == 0 {
+        return;
+    }
+    for (i, &v) in data.iter().enumerate() {
+        let x = i % width;
+        let inside = if step == 1 {
+            x >= 1 && x + 1 < width
+        } else {
+            i >= step && i + step < data.len()
+        };
+        if !inside {
+            continue;
+        }
+        let (a, b) = (i32::from(data[i - step]), i32::from(data[i + step]));
+        let twice = (2 * i32::from(v) - a - b).unsigned_abs() as usize;
+        hist[twice.min(RESIDUAL_BINS - 1)] += 1.0;
+    }
+}
+
+/// The median of a histogram in half grey levels (the bin where the share reaches one half).
+fn median_of(hist: &[f64]) -> f64 {
+    let mut cumulative = 0.0;
+    for (bin, share) in hist.iter().enumerate() {
+        cumulative += share;
+        if cumulative >= 0.5 {
+            return 0.5 * bin as f64;
+        }
+    }
+    0.0
+}
+
 fn normalise(hist: &mut [f64]) {
     let total: f64 = hist.iter().sum();
     if total > 0.0 {
@@ -224,6 +285,21 @@ mod tests {
         // Three rows into eight bands: rows 0, 1, 2 fill bands 0, 2 and 5 (the rest empty).
         assert_eq!(h.row_profile[0], 5.0);
         assert_eq!(h.row_profile[1], 0.0);
+        // Rows are alike; across the edge a pixel is 5 from the mean of its neighbours.
+        assert_eq!(h.median_row_residual(), 0.0);
+        assert_eq!(h.column_residual[10], 1.0); // |2·0 − 0 − 10| = 10 half levels
+        assert_eq!(h.median_column_residual(), 5.0);
+    }
+
+    #[test]
+    fn striped_rows_have_a_row_residual() {
+        // Rows alternate 100 and 120: every interior row is 20 from its neighbours' mean.
+        let data: Vec<u8> = (0..5)
+            .flat_map(|r| [if r % 2 == 0 { 100 } else { 120 }; 6])
+            .collect();
+        let h = Histograms::of(&[plane(data, 5, 6)], &own_size()).unwrap();
+        assert_eq!(h.median_row_residual(), 20.0);
+        assert_eq!(h.median_column_residual(), 0.0);
     }
 
     #[test]

@@ -266,19 +266,33 @@ fn shift(set: &ImageSet) -> String {
 fn row_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
     md.push_str(
         "\n## Row profile\n\nMean grey level per eighth of the image's rows, top (ceiling, \
-         sky) first; the last column is the mean absolute difference from the real profile.\n\n",
+         sky) first; difference: the mean absolute difference from the real profile. Row and \
+         column residual: the median |pixel − mean of the pixels above and below| (left and \
+         right), grey levels — how much rows differ from their neighbours.\n\n",
     );
     let bands: Vec<String> = (1..=ROW_BANDS)
         .map(|b| format!("rows {b}/{ROW_BANDS}"))
         .collect();
-    let _ = writeln!(md, "| images | {} | difference |", bands.join(" | "));
-    let _ = writeln!(md, "|{}", "---|".repeat(ROW_BANDS + 2));
+    let _ = writeln!(
+        md,
+        "| images | {} | difference | row residual | column residual |",
+        bands.join(" | ")
+    );
+    let _ = writeln!(md, "|{}", "---|".repeat(ROW_BANDS + 4));
     let r = &real.histograms.row_profile;
     for s in std::iter::once(real).chain(sim) {
         let p = &s.histograms.row_profile;
         let cells: Vec<String> = p.iter().map(|v| format!("{v:.1}")).collect();
         let diff = p.iter().zip(r).map(|(a, b)| (a - b).abs()).sum::<f64>() / ROW_BANDS as f64;
-        let _ = writeln!(md, "| {} | {} | {diff:.1} |", s.name, cells.join(" | "));
+        let h = &s.histograms;
+        let _ = writeln!(
+            md,
+            "| {} | {} | {diff:.1} | {:.1} | {:.1} |",
+            s.name,
+            cells.join(" | "),
+            h.median_row_residual(),
+            h.median_column_residual()
+        );
     }
 }
 
@@ -325,6 +339,8 @@ fn json(sets: &[ImageSet]) -> serde_json::Value {
                 "mean_intensity": s.histograms.mean_intensity(),
                 "mean_gradient": s.histograms.mean_gradient(),
                 "row_profile": s.histograms.row_profile,
+                "median_row_residual": s.histograms.median_row_residual(),
+                "median_column_residual": s.histograms.median_column_residual(),
                 "median_shift_px": s.shift,
                 "intensity_distance": d.map(|d| d.0),
                 "gradient_distance": d.map(|d| d.1),
