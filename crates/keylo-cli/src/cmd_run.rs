@@ -8,7 +8,9 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use keylo::config::{OnBadFrame, PipelineConfig};
-use keylo::{CoreError, FrameResult, ImageSource, LidarFrame, Pipeline, Prefetched, Trajectory};
+use keylo::{
+    CoreError, FrameResult, ImageSource, LidarFrame, Paced, Pipeline, Prefetched, Trajectory,
+};
 
 use crate::args::RunArgs;
 use crate::degeneracy_out::{self, DegeneracyRow};
@@ -43,6 +45,14 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let source: Box<dyn ImageSource> = match args.prefetch {
         0 => source,
         n => Box::new(Prefetched::new(source, usize::from(n))?),
+    };
+    let (source, late): (Box<dyn ImageSource>, _) = match args.realtime {
+        Some(speed) => {
+            let paced = Paced::new(source, speed).context("--realtime")?;
+            let late = paced.late_frames();
+            (Box::new(paced), Some(late))
+        }
+        None => (source, None),
     };
     let mut pipeline = Pipeline { source, odometry };
     let info = pipeline.source.info();
@@ -79,6 +89,8 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             .zip(resources::cpu_seconds())
             .map(|(a, b)| 100.0 * (b - a) / wall.max(1e-9)),
         path_length_m: outcome.trajectory.path_length(),
+        playback_speed: args.realtime,
+        frames_late: late.map(|n| n.load(std::sync::atomic::Ordering::Relaxed)),
         ..Summary::default()
     };
     outcome.totals.fill(&mut summary);

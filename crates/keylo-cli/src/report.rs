@@ -51,6 +51,13 @@ pub struct Summary {
     pub stage_ms: StageMs,
     pub peak_rss_mb: Option<f64>,
     pub cpu_percent: Option<f64>,
+    /// `--realtime`: the playback speed (1: the sensor's rate); absent when frames were read
+    /// as fast as they were processed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub playback_speed: Option<f64>,
+    /// `--realtime`: frames released after their time (odometry did not keep up).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frames_late: Option<u64>,
     pub path_length_m: f64,
     pub ground_truth: Option<String>,
     pub accuracy: Option<Accuracy>,
@@ -195,6 +202,10 @@ pub fn table(s: &Summary) -> String {
     let mut out = String::new();
     for (k, v) in rows {
         out.push_str(&format!("  {k:<28} {v:>12}\n"));
+    }
+    if let (Some(speed), Some(late)) = (s.playback_speed, s.frames_late) {
+        let k = format!("frames late at {speed}x rate");
+        out.push_str(&format!("  {k:<28} {late:>12}\n"));
     }
     out
 }

@@ -51,6 +51,58 @@ fn run_writes_trajectories_summary_and_config() {
 }
 
 #[test]
+fn realtime_playback_paces_the_frames_and_keeps_the_results() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 4);
+    let run = |out: &str, extra: &[&str]| {
+        let out = tmp.path().join(out);
+        let mut args = vec![
+            "run",
+            "--data",
+            data.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let start = std::time::Instant::now();
+        let o = keylo(&args, tmp.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+        (out, start.elapsed(), stdout(&o))
+    };
+    let (fast, _, _) = run("fast", &[]);
+    // Four frames 0.1 s apart at twice the sensor's rate: the last is released 0.15 s after
+    // the first.
+    let (paced, took, table) = run("paced", &["--realtime", "2"]);
+    assert!(took >= std::time::Duration::from_millis(150), "{took:?}");
+    assert!(table.contains("frames late at 2x rate"), "{table}");
+    let read = |d: &std::path::Path, f: &str| std::fs::read_to_string(d.join(f)).unwrap();
+    assert_eq!(
+        read(&fast, "trajectory.tum"),
+        read(&paced, "trajectory.tum")
+    );
+    let summary: serde_json::Value = serde_json::from_str(&read(&paced, "summary.json")).unwrap();
+    assert_eq!(summary["playback_speed"], 2.0);
+    assert!(summary["frames_late"].as_u64().is_some(), "{summary}");
+    let unpaced: serde_json::Value = serde_json::from_str(&read(&fast, "summary.json")).unwrap();
+    assert!(unpaced.get("playback_speed").is_none(), "{unpaced}");
+    // A speed that is not above 0 is refused before any work.
+    let o = keylo(
+        &[
+            "run",
+            "--data",
+            data.to_str().unwrap(),
+            "--realtime",
+            "0",
+            "--out",
+            tmp.path().join("zero").to_str().unwrap(),
+        ],
+        tmp.path(),
+    );
+    common::expect_failure(&o, 2, "--realtime");
+}
+
+#[test]
 fn config_show_fills_defaults_with_docs() {
     let tmp = tempfile::tempdir().unwrap();
     let o = keylo_line("config show --set registrar.voxel_size=0.5", tmp.path());

@@ -31,7 +31,7 @@ pub use frame::{BeamGeometry, Channel, LidarFrame};
 pub use image::Image;
 pub use keypoints3d::{keypoint_points, FrameKeypoints, ImageKeypoints};
 pub use pipeline::{
-    build_source, FrameResult, Odometry, PerImage, Pipeline, Prefetched, StageTimings,
+    build_source, FrameResult, Odometry, Paced, PerImage, Pipeline, Prefetched, StageTimings,
 };
 pub use registry::{BuildContext, Registry};
 pub use scan::{GridOccupancy, PixelPoints, ScanPoints};

@@ -1,5 +1,6 @@
 //! Composes the stages: [`Odometry`] turns frames into poses; [`Pipeline`] adds the source.
 
+mod paced;
 mod per_image;
 mod prefetch;
 
@@ -7,6 +8,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+pub use paced::Paced;
 pub use per_image::PerImage;
 pub use prefetch::Prefetched;
 
