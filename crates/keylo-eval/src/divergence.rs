@@ -100,17 +100,18 @@ pub fn origin_aligned_max(
         .fold(0.0, f64::max))
 }
 
-/// The error a verdict on `estimate` is judged on: the SE(3)-aligned APE's largest
-/// ([`aligned_ape`]) or, where that alignment is impossible, [`origin_aligned_max`]; `None`
-/// when the two cannot be paired.
+/// The error a verdict on `estimate` is judged on: the largest error of its SE(3)-aligned APE
+/// (`aligned`, from [`aligned_ape`]) or, where that alignment failed, [`origin_aligned_max`];
+/// `None` when the two cannot be paired.
 pub fn verdict_ape(
+    aligned: Option<&ApeResult>,
     estimate: &Trajectory,
     ground_truth: &Trajectory,
     t_max_diff_s: f64,
 ) -> Option<VerdictApe> {
-    match aligned_ape(estimate, ground_truth, t_max_diff_s) {
-        Ok((_, result)) => Some(VerdictApe::Aligned(result.translation.max)),
-        Err(_) => origin_aligned_max(estimate, ground_truth, t_max_diff_s)
+    match aligned {
+        Some(result) => Some(VerdictApe::Aligned(result.translation.max)),
+        None => origin_aligned_max(estimate, ground_truth, t_max_diff_s)
             .ok()
             .map(VerdictApe::OriginAligned),
     }
@@ -243,7 +244,7 @@ mod tests {
         let stuck = line(&[0.0, 0.0, 0.0]);
         // SE(3) alignment needs the estimate to spread in space.
         assert!(aligned_ape(&stuck, &gt, 0.01).is_err());
-        let ape = verdict_ape(&stuck, &gt, 0.01);
+        let ape = verdict_ape(None, &stuck, &gt, 0.01);
         assert_eq!(ape, Some(VerdictApe::OriginAligned(3.0)));
         let (v, why) = judge(&stuck, ape, true, &Criterion::default());
         assert_eq!(
@@ -254,14 +255,15 @@ mod tests {
             )
         );
         // Standing still against a still ground truth is no error.
-        let still = verdict_ape(&stuck, &line(&[0.0, 0.0, 0.0]), 0.01);
+        let still = verdict_ape(None, &stuck, &line(&[0.0, 0.0, 0.0]), 0.01);
         assert_eq!(still, Some(VerdictApe::OriginAligned(0.0)));
         assert_eq!(
             judge(&stuck, still, true, &Criterion::default()).0,
             Verdict::Ok
         );
         // A moving estimate keeps the SE(3)-aligned figure.
-        let moved = verdict_ape(&gt, &gt, 0.01);
+        let (_, aligned) = aligned_ape(&gt, &gt, 0.01).expect("pairs");
+        let moved = verdict_ape(Some(&aligned), &gt, &gt, 0.01);
         assert!(
             matches!(moved, Some(VerdictApe::Aligned(m)) if m < 1e-9),
             "{moved:?}"

@@ -34,12 +34,13 @@ pub fn judge<'py>(
     let (estimate, figures) = match gt {
         Some(gt) => {
             let (e, g) = paired(est, est_stamps, gt, gt_stamps)?;
-            let (e, g) = (&e.trajectory, &g.trajectory);
             let found = py.detach(|| {
+                let (e, g) = (&e.trajectory, &g.trajectory);
                 let ape = aligned_ape(e, g, t_max_diff).ok();
-                (ape, verdict_ape(e, g, t_max_diff))
+                let for_verdict = verdict_ape(ape.as_ref().map(|(_, r)| r), e, g, t_max_diff);
+                (ape, for_verdict)
             });
-            (e.clone(), Some(found))
+            (e.trajectory, Some(found))
         }
         None => (trajectory_of(est, est_stamps, "est")?.trajectory, None),
     };

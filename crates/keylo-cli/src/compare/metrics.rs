@@ -4,6 +4,8 @@
 
 use std::path::Path;
 
+use keylo::eval::ape::ApeResult;
+use keylo::eval::associate::Associated;
 use keylo::eval::divergence::{aligned_ape, judge, verdict_ape, VerdictApe};
 use keylo::Trajectory;
 use serde::Serialize;
@@ -108,14 +110,12 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
     if let (Some(e), Some(g)) = (est.as_mut(), gt.as_mut()) {
         // A KITTI ground truth has no stamps: pair it one for one, as `keylo run` does.
         if trajectories::reconcile(e, g).is_ok() {
-            fill_ape(
-                &e.trajectory,
-                &g.trajectory,
-                crit.t_max_diff_s,
-                &mut row,
-                &mut series,
-            );
-            ape = verdict_ape(&e.trajectory, &g.trajectory, crit.t_max_diff_s);
+            let (e, g) = (&e.trajectory, &g.trajectory);
+            let aligned = aligned_ape(e, g, crit.t_max_diff_s).ok();
+            if let Some((pairs, result)) = &aligned {
+                fill_ape(pairs, result, &mut row, &mut series);
+            }
+            ape = verdict_ape(aligned.as_ref().map(|(_, r)| r), e, g, crit.t_max_diff_s);
         }
     }
     let est = est.map(|l| l.trajectory);
@@ -209,16 +209,7 @@ fn fill_from_summary(s: &Value, row: &mut Row) {
     row.rpe_rot_deg = a("rpe_rot_rmse_deg");
 }
 
-fn fill_ape(
-    est: &Trajectory,
-    gt: &Trajectory,
-    t_max_diff: f64,
-    row: &mut Row,
-    series: &mut Series,
-) {
-    let Ok((pairs, result)) = aligned_ape(est, gt, t_max_diff) else {
-        return;
-    };
+fn fill_ape(pairs: &Associated, result: &ApeResult, row: &mut Row, series: &mut Series) {
     row.associated_poses = Some(pairs.len());
     row.trans_mean_m = Some(result.translation.mean);
     row.trans_rmse_m = Some(result.translation.rmse);
