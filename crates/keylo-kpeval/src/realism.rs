@@ -66,8 +66,13 @@ impl Histograms {
             add_intensity(&img.data, &mut intensity);
             add_gradient(&img.data, img.width, img.height, &mut gradient);
             add_rows(&img.data, img.width, img.height, &mut bands);
-            add_residuals(&img.data, img.width, img.width, &mut row_residual);
-            add_residuals(&img.data, img.width, 1, &mut column_residual);
+            add_residuals(
+                &img.data,
+                img.width,
+                img.height,
+                &mut row_residual,
+                &mut column_residual,
+            );
         }
         normalise(&mut intensity);
         normalise(&mut gradient);
@@ -195,26 +200,23 @@ fn add_gradient(data: &[u8], width: usize, height: usize, hist: &mut [f64]) {
     }
 }
 
-/// |pixel − mean of its two neighbours `step` apart in `data`'s flat order (`width`: one row
-/// apart, vertical; 1: one column apart, horizontal) of every pixel that has both, into
-/// `hist` in half grey levels.
-fn add_residuals(data: &[u8], width: usize, step: usize, hist: &mut [f64]) {
-    if width == 0 {
-        return;
-    }
-    for (i, &v) in data.iter().enumerate() {
-        let x = i % width;
-        let inside = if step == 1 {
-            x >= 1 && x + 1 < width
-        } else {
-            i >= step && i + step < data.len()
-        };
-        if !inside {
-            continue;
+/// |pixel − mean of the pixels above and below| of every pixel that has both into `rows`, and
+/// |pixel − mean of the pixels left and right| into `columns`, in half grey levels.
+fn add_residuals(data: &[u8], width: usize, height: usize, rows: &mut [f64], columns: &mut [f64]) {
+    let px = |x: usize, y: usize| i32::from(data[y * width + x]);
+    let add = |hist: &mut [f64], twice: i32| {
+        hist[(twice.unsigned_abs() as usize).min(RESIDUAL_BINS - 1)] += 1.0;
+    };
+    for y in 0..height {
+        for x in 0..width {
+            let v = 2 * px(x, y);
+            if y >= 1 && y + 1 < height {
+                add(rows, v - px(x, y - 1) - px(x, y + 1));
+            }
+            if x >= 1 && x + 1 < width {
+                add(columns, v - px(x - 1, y) - px(x + 1, y));
+            }
         }
-        let (a, b) = (i32::from(data[i - step]), i32::from(data[i + step]));
-        let twice = (2 * i32::from(v) - a - b).unsigned_abs() as usize;
-        hist[twice.min(RESIDUAL_BINS - 1)] += 1.0;
     }
 }
 
