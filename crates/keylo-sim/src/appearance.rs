@@ -164,7 +164,8 @@ impl BeamResponse {
         let (i, f) = (x.floor(), x.fract());
         let knot = |k: f64| 2.0 * f64::from(unit(hash_words(&[self.seed, k as u64]))) - 1.0;
         let s = f * f * (3.0 - 2.0 * f);
-        let n = knot(i) + (knot(i + 1.0) - knot(i)) * s;
+        let (k0, k1) = (knot(i), knot(i + 1.0));
+        let n = k0 + (k1 - k0) * s;
         let fade = 1.0 / (1.0 + (range_m / RANGE_WANDER_FADE_M).powi(2));
         self.gain * (1.0 + self.wander * fade * n)
     }

@@ -79,6 +79,15 @@ impl SceneBuilder {
         }
     }
 
+    /// Left (1) or right (−1) of the path, at random.
+    pub fn random_side(&mut self) -> f64 {
+        if self.rng.random_bool(0.5) {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+
     /// Adds structure (never dropped; the trajectory must clear it).
     pub fn structure(&mut self, o: Object) {
         self.objects.push((o, true));

@@ -92,7 +92,7 @@ fn mounds(b: &mut SceneBuilder, motion: &Motion) {
         let radius = b.rng.random_range(4.0..12.0f32);
         let height = b.rng.random_range(0.3..1.2f32);
         let foot = (radius * radius - (radius - height).powi(2)).sqrt();
-        let side = if b.rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        let side = b.random_side();
         let lateral = f64::from(PATH_HALF_WIDTH + foot) + b.rng.random_range(1.0..12.0);
         let [x, y] = PathFrame::at(motion, s).offset(0.0, side * lateral);
         let turf = mottled(b, 0.3, 0.35, 0.3..0.5);
@@ -101,28 +101,31 @@ fn mounds(b: &mut SceneBuilder, motion: &Motion) {
     }
 }
 
-/// Trees, bushes and rocks on both sides, denser away from the path.
+/// Trees, bushes and rocks on both sides, spread evenly up to `WOOD_DEPTH` from the path.
 fn woods(b: &mut SceneBuilder, motion: &Motion) {
     let lap = motion.lap_length();
     let trees = (TREES_PER_100_M2 * lap * 2.0 * WOOD_DEPTH / 100.0) as usize;
     for _ in 0..trees {
-        let s = b.rng.random_range(0.0..lap);
-        let side = if b.rng.random_bool(0.5) { 1.0 } else { -1.0 };
-        let lateral = b.rng.random_range(2.5..WOOD_DEPTH);
-        let [x, y] = PathFrame::at(motion, s).offset(0.0, side * lateral);
+        let [x, y] = beside_path(b, motion, 2.5);
         tree(b, x, y);
     }
     for _ in 0..trees {
-        let s = b.rng.random_range(0.0..lap);
-        let side = if b.rng.random_bool(0.5) { 1.0 } else { -1.0 };
-        let lateral = b.rng.random_range(1.8..WOOD_DEPTH);
-        let [x, y] = PathFrame::at(motion, s).offset(0.0, side * lateral);
+        let [x, y] = beside_path(b, motion, 1.8);
         if b.rng.random_bool(0.7) {
             bush(b, x, y);
         } else {
             rock(b, x, y);
         }
     }
+}
+
+/// A random place on either side of the path, `nearest` to `WOOD_DEPTH` metres from its
+/// centre line.
+fn beside_path(b: &mut SceneBuilder, motion: &Motion, nearest: f64) -> [f32; 2] {
+    let s = b.rng.random_range(0.0..motion.lap_length());
+    let side = b.random_side();
+    let lateral = b.rng.random_range(nearest..WOOD_DEPTH);
+    PathFrame::at(motion, s).offset(0.0, side * lateral)
 }
 
 /// A trunk and a crown of several overlapping lobes (a dead snag has none).
@@ -176,7 +179,7 @@ fn furniture(b: &mut SceneBuilder, motion: &Motion) {
     let mut s = b.rng.random_range(0.0..20.0);
     while s < lap - 5.0 {
         let f = PathFrame::at(motion, s);
-        let side = if b.rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        let side = b.random_side();
         let edge = f64::from(PATH_HALF_WIDTH) + 0.6;
         match b.rng.random_range(0..3) {
             0 => {

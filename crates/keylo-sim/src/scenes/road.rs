@@ -134,7 +134,7 @@ fn parked_cars(b: &mut SceneBuilder, motion: &Motion) {
     let lap = motion.lap_length();
     let mut s = b.rng.random_range(5.0..30.0);
     while s < lap - 10.0 {
-        let side = if b.rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        let side = b.random_side();
         for _ in 0..b.rng.random_range(1..5) {
             let f = PathFrame::at(motion, s);
             let [x, y] = f.offset(0.0, side * 5.2);
