@@ -122,6 +122,12 @@ pub struct CompareArgs {
     /// Run again even where a finished summary.json is found.
     #[arg(long)]
     pub rerun: bool,
+    /// Play every run's data back at the sensor's rate (`keylo run --realtime`): frames
+    /// released at their timestamps (SPEED × real time; no value: 1), so the CPU (%) and
+    /// peak RSS columns are those at that rate, as the paper measures them. Use with
+    /// `--jobs 1` (the default) or the runs perturb each other's figures.
+    #[arg(long, value_name = "SPEED", num_args = 0..=1, default_missing_value = "1")]
+    pub realtime: Option<f64>,
     /// Print the planned runs (folder and --set overrides) and stop.
     #[arg(long)]
     pub dry_run: bool,

@@ -152,6 +152,11 @@ fn compare_fills_every_column_csv_and_json_agree_and_resume_skips() {
         assert_eq!(run["verdict"], "ok", "{run}");
         assert_eq!(row.len(), header.len());
         for (name, value) in header.iter().zip(row) {
+            if name == "frames_late" {
+                // Only a `--realtime` run counts late frames.
+                assert!(value.is_empty() && run[name.as_str()].is_null(), "{run}");
+                continue;
+            }
             assert!(!value.is_empty(), "column {name} is empty: {row:?}");
             match &run[name.as_str()] {
                 serde_json::Value::Number(n) => {
@@ -450,4 +455,54 @@ fn same_budget_adds_random_and_voxel_baselines_with_the_keypoint_point_count() {
     // `random` keeps exactly the windows' count each frame; `voxel-budget` at most that many.
     assert_eq!(points(random), points(keypoints));
     assert!(points(voxel) <= points(keypoints) && points(voxel) > 0.8 * points(keypoints));
+}
+
+#[test]
+fn realtime_paces_every_run_and_says_so_and_bad_speeds_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("seq");
+    small_sim(&data, 4);
+    let out = tmp.path().join("cmp");
+    let cfg = config("paper/raw-kiss-icp.toml");
+    let args = |speed: &str| {
+        vec![
+            "compare".to_string(),
+            cfg.clone(),
+            "--data".into(),
+            data.display().to_string(),
+            "--out".into(),
+            out.display().to_string(),
+            format!("--realtime={speed}"),
+            "--no-plots".into(),
+        ]
+    };
+    let run = |a: &[String]| {
+        keylo(
+            &a.iter().map(String::as_str).collect::<Vec<_>>(),
+            tmp.path(),
+        )
+    };
+    let o = run(&args("20"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let dir = out.join("runs/seq/raw-kiss-icp");
+    let summary = read_json(&dir.join("summary.json"));
+    assert_eq!(summary["playback_speed"], 20.0, "{summary}");
+    let row = &read_json(&out.join("compare.json"))["runs"][0];
+    assert!(row["frames_late"].is_u64(), "{row}");
+    let md = std::fs::read_to_string(out.join("compare.md")).unwrap();
+    assert!(md.contains("Played back at 20×"), "{md}");
+    let plan = std::fs::read_to_string(dir.join("compare-plan.json")).unwrap();
+    assert!(plan.contains("\"realtime\": 20"), "{plan}");
+    // Another speed is another plan: the run is done again, not resumed.
+    let o = run(&args("40"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        read_json(&out.join("compare.json"))["runs"][0]["resumed"],
+        false
+    );
+    for bad in ["0", "-1", "inf"] {
+        let o = run(&args(bad));
+        assert_eq!(o.status.code(), Some(2), "{bad}: {}", stderr(&o));
+        assert!(stderr(&o).contains("--realtime"), "{bad}: {}", stderr(&o));
+    }
 }

@@ -6,9 +6,11 @@ mod common;
 
 use std::path::PathBuf;
 
-use keylo_core::{BuildContext, Descriptor, DescriptorData, Detector, Image};
+use keylo_core::{
+    BuildContext, Descriptor, DescriptorData, Descriptors, Detector, Image, Keypoint,
+};
 use keylo_features::image::LidarImageConfig;
-use keylo_features::superpoint::{ExecutionProvider, SuperPoint, SuperPointParams};
+use keylo_features::superpoint::{ExecutionProvider, Precision, SuperPoint, SuperPointParams};
 use serde_json::Value;
 
 fn fixtures() -> PathBuf {
@@ -192,6 +194,91 @@ fn bad_models_are_refused_with_their_path() {
     };
     let e = SuperPoint::new(bad, &ctx).err().unwrap().to_string();
     assert!(e.contains("confidence"), "{e}");
+    // INT8 is the shipped model's; a model of one's own runs as it is.
+    let own_int8 = SuperPointParams {
+        precision: Precision::Int8,
+        ..with_model("superpoint_1ch.onnx")
+    };
+    let e = SuperPoint::new(own_int8, &ctx).err().unwrap().to_string();
+    assert!(e.contains("precision") && e.contains("quantize"), "{e}");
+}
+
+/// Share of `a`'s keypoints with one of `b`'s within 1 px, and the mean cosine of their
+/// descriptors (unit vectors: the dot product).
+fn reproduced(a: &(Vec<Keypoint>, Descriptors), b: &(Vec<Keypoint>, Descriptors)) -> (f64, f64) {
+    let (DescriptorData::Float(da), DescriptorData::Float(db)) = (&a.1.data, &b.1.data) else {
+        panic!("SuperPoint descriptors are floats")
+    };
+    let (mut found, mut cosine) = (0usize, 0.0f64);
+    for (i, p) in a.0.iter().enumerate() {
+        if let Some(j) = b.0.iter().position(|q| (p.x - q.x).hypot(p.y - q.y) <= 1.0) {
+            found += 1;
+            let (x, y) = (&da[i * 256..(i + 1) * 256], &db[j * 256..(j + 1) * 256]);
+            cosine += x.iter().zip(y).map(|(u, v)| f64::from(u * v)).sum::<f64>();
+        }
+    }
+    (
+        found as f64 / a.0.len().max(1) as f64,
+        cosine / found.max(1) as f64,
+    )
+}
+
+#[test]
+fn int8_model_finds_the_fp32_keypoints_and_descriptors() {
+    // Both frames of a real OS0-128 capture (not the images the INT8 model was calibrated on),
+    // as the paper's configs see them: signal and range images, 1024×64, range gamma 0.5.
+    let mut config = LidarImageConfig {
+        images: vec!["signal".into(), "range".into()],
+        ..LidarImageConfig::default()
+    };
+    config.normalise_by_channel.insert(
+        "range".into(),
+        keylo_features::image::Normalise {
+            gamma: 0.5,
+            ..Default::default()
+        },
+    );
+    let ctx = BuildContext::default();
+    let mut fp32 = SuperPoint::new(cpu_params(), &ctx).unwrap();
+    let int8 = SuperPointParams {
+        precision: Precision::Int8,
+        ..cpu_params()
+    };
+    let mut int8 = SuperPoint::new(int8, &ctx).unwrap();
+    // Measured: signal 91 % and 91 % of the FP32 keypoints within 1 px (the bench's 97 % is on
+    // the TIERS images 100-199), range 69 % and 100 % (few keypoints; range images were not
+    // in the calibration set); descriptors' cosine 0.996. Bounds leave room for other CPUs'
+    // kernels (FP32 parts of the graph round differently with AVX-512).
+    let (mut found, mut total) = (0.0, 0usize);
+    for frame in common::os0_frames() {
+        for image in common::images(&frame, config.clone()) {
+            let (a, b) = (fp32.run(&image).unwrap(), int8.run(&image).unwrap());
+            let (share, cosine) = reproduced(&a, &b);
+            let name = image.name();
+            assert!(a.0.len() > 20, "{name}: {}", a.0.len());
+            if name == "signal" {
+                assert!(
+                    share >= 0.85,
+                    "{name}: {share} of the FP32 keypoints within 1 px"
+                );
+            }
+            let count = b.0.len() as f64 / a.0.len() as f64;
+            assert!(
+                (0.75..=1.25).contains(&count),
+                "{name}: {} vs {}",
+                b.0.len(),
+                a.0.len()
+            );
+            assert!(cosine > 0.99, "{name}: mean cosine {cosine}");
+            found += share * a.0.len() as f64;
+            total += a.0.len();
+        }
+    }
+    let share = found / total as f64;
+    assert!(
+        share >= 0.85,
+        "{share} of the FP32 keypoints within 1 px over every image"
+    );
 }
 
 #[test]

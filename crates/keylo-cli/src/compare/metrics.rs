@@ -57,6 +57,12 @@ pub struct Row {
     pub rpe_rot_deg: Option<f64>,
     pub cpu_percent: Option<f64>,
     pub peak_rss_mb: Option<f64>,
+    /// Playback speed of a `--realtime` run (1: the sensor's rate; `None`: un-paced); said
+    /// once above compare.md's tables, not a column.
+    #[serde(skip)]
+    pub playback_speed: Option<f64>,
+    /// Frames of a `--realtime` run released later than their time (odometry fell behind).
+    pub frames_late: Option<usize>,
     /// Mean points the downsampler handed to the registrar (the paper's "Avg Pts").
     pub mean_points: Option<f64>,
     /// Mean points the registrar aligned after its own voxel filter.
@@ -200,6 +206,11 @@ fn fill_from_summary(s: &Value, row: &mut Row) {
     row.frames = s.get("frames").and_then(Value::as_u64).map(|n| n as usize);
     row.cpu_percent = f("cpu_percent");
     row.peak_rss_mb = f("peak_rss_mb");
+    row.playback_speed = f("playback_speed");
+    row.frames_late = s
+        .get("frames_late")
+        .and_then(Value::as_u64)
+        .map(|n| n as usize);
     row.mean_points = f("mean_cloud_points");
     row.mean_registered_points = f("mean_registered_points");
     row.odometry_hz = f("odometry_hz");

@@ -40,6 +40,11 @@ pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     if args.jobs == 0 {
         bail!("--jobs 0: expected at least 1");
     }
+    if let Some(speed) = args.realtime {
+        if !(speed.is_finite() && speed > 0.0) {
+            bail!("--realtime {speed}: expected a positive playback speed (1: the sensor's rate)");
+        }
+    }
     let axes = args
         .grids
         .iter()
@@ -202,6 +207,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
                         .clone()
                         .or_else(|| Some(data.join("gt.tum")).filter(|p| p.is_file())),
                     sets: sets.clone(),
+                    realtime: args.realtime,
                 });
             }
         }

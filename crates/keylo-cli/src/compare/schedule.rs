@@ -24,6 +24,8 @@ pub struct Planned {
     pub gt: Option<PathBuf>,
     /// `--set` strings: the user's, then the grid point's.
     pub sets: Vec<String>,
+    /// `--realtime` speed of the run (`None`: as fast as it goes).
+    pub realtime: Option<f64>,
     pub dir: PathBuf,
 }
 
@@ -47,12 +49,16 @@ const PLAN_FILE: &str = "compare-plan.json";
 
 /// What a run was asked: config, data, ground truth and overrides (resume compares these).
 fn plan_text(plan: &Planned) -> String {
-    let v = serde_json::json!({
+    let mut v = serde_json::json!({
         "config": plan.config.as_ref().map(|p| p.display().to_string()),
         "data": plan.data.display().to_string(),
         "gt": plan.gt.as_ref().map(|p| p.display().to_string()),
         "sets": plan.sets,
     });
+    // Only a paced run records its speed, so the plans of earlier runs still match.
+    if let (Some(speed), Some(map)) = (plan.realtime, v.as_object_mut()) {
+        map.insert("realtime".into(), serde_json::json!(speed));
+    }
     serde_json::to_string_pretty(&v).unwrap_or_default()
 }
 
@@ -186,6 +192,9 @@ fn run_one(exe: &Path, plan: &Planned, opts: &Options) -> Result<Outcome, Compar
     }
     for s in &plan.sets {
         cmd.arg("--set").arg(s);
+    }
+    if let Some(speed) = plan.realtime {
+        cmd.arg(format!("--realtime={speed}"));
     }
     let log = |name: &str| {
         let p = plan.dir.join(name);

@@ -9,7 +9,7 @@ use serde_json::Value;
 use super::metrics::{describe, Criterion, Row};
 
 /// Columns of the full table: (JSON/CSV field, Markdown header, decimals).
-const COLUMNS: [(&str, &str, usize); 23] = [
+const COLUMNS: [(&str, &str, usize); 24] = [
     ("data", "data", 0),
     ("variant", "variant", 0),
     ("config", "config", 0),
@@ -29,6 +29,7 @@ const COLUMNS: [(&str, &str, usize); 23] = [
     ("rpe_rot_deg", "RPE rot (deg/frame)", 3),
     ("cpu_percent", "CPU (%)", 0),
     ("peak_rss_mb", "peak RSS (MB)", 1),
+    ("frames_late", "late frames", 0),
     ("mean_points", "points/frame", 0),
     ("mean_registered_points", "registered/frame", 0),
     ("odometry_hz", "rate (Hz)", 1),
@@ -93,6 +94,13 @@ pub fn markdown(rows: &[Row], crit: &Criterion) -> String {
     md.push_str(&grid_table(rows, &variants, &data, |r| {
         r.mean_points.map_or("-".into(), |p| format!("{p:.0}"))
     }));
+    if let Some(speed) = rows.iter().find_map(|r| r.playback_speed) {
+        let _ = write!(
+            md,
+            "\nPlayed back at {speed}× the sensor's rate (`--realtime`): CPU (%) and peak RSS \
+             are those at that rate; a run whose odometry fell behind counts late frames.\n"
+        );
+    }
     for d in &data {
         let _ = write!(md, "\n## Performance on {d}\n\n");
         md.push_str(&performance(rows, d, &variants));

@@ -12,7 +12,7 @@ mod params;
 pub mod runtime;
 
 pub use model::BUILTIN_MODEL;
-pub use params::{ExecutionProvider, Nms, SuperPointParams};
+pub use params::{ExecutionProvider, Nms, Precision, SuperPointParams};
 
 use keylo_core::config::StageParams;
 use keylo_core::{

