@@ -31,20 +31,26 @@ for name in raw akaze superpoint hybrid; do
         "$keylo" -q run "$config" --data "$work/lab" --out "$work/run-$name" --prefetch 0 2> /dev/null
     perf script -i "$work/perf.data" 2> /dev/null | inferno-collapse-perf > "$work/$name.folded"
     inferno-flamegraph --title "keylo run $(basename "$config") — simulated lab, $frames frames" \
-        --width 1400 < "$work/$name.folded" > "$out/$name.svg"
-    # The ten heaviest frames by time inclusive of callees, for the text of profile.md.
+        --width 1400 --minwidth 1.5 < "$work/$name.folded" > "$out/$name.svg"
+    # The heaviest keylo functions (time including callees) and the heaviest leaves (self
+    # time), for the text of docs/results/profile.md.
     python3 - "$work/$name.folded" <<'PY' | tee "$out/$name-top.txt"
-import collections, sys
-total, incl = 0, collections.Counter()
+import collections, re, sys
+total, incl, leaf = 0, collections.Counter(), collections.Counter()
 for line in open(sys.argv[1]):
     stack, n = line.rsplit(" ", 1)
     n = int(n); total += n
-    for f in set(stack.split(";")):
-        incl[f] += n
-print(f"{total} samples")
-for f, n in incl.most_common(40):
-    if n < total:
-        print(f"{100 * n / total:5.1f} %  {f[:140]}")
+    frames = stack.split(";")
+    leaf[frames[-1][:120]] += n
+    for f in set(frames):
+        if re.match(r"<?keylo", f):
+            incl[f[:120]] += n
+print("keylo functions, time including callees:")
+for f, n in incl.most_common(15):
+    print(f"{100 * n / total:5.1f} %  {f}")
+print("leaves, self time:")
+for f, n in leaf.most_common(12):
+    print(f"{100 * n / total:5.1f} %  {f}")
 PY
     rm -f "$work/perf.data"
     echo "$name -> $out/$name.svg"
