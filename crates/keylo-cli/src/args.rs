@@ -83,9 +83,14 @@ pub struct RunArgs {
 downsampler.k_rng) stand for downsampler.windows.signal and downsampler.windows.range, and \
 window sizes are merged into one downsampler.windows table per run. Example (the paper's \
 neighbour-size table): keylo compare configs/paper/outdoor-akaze-kiss-icp.toml --data SEQ \
---grid k_sig=4,5,7 --grid k_rng=4,5,7"
+--grid k_sig=4,5,7 --grid k_rng=4,5,7. Across machines: --shard I/N per machine, then \
+`keylo compare merge OUT SHARD_DIR...` (docs/scale-out.md).",
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
 )]
 pub struct CompareArgs {
+    #[command(subcommand)]
+    pub command: Option<CompareCommand>,
     /// Pipeline configs (TOML) to compare; none: the built-in default pipeline.
     pub configs: Vec<PathBuf>,
     /// Data to run every config on (repeatable: each is one column of the tables).
@@ -136,6 +141,31 @@ pub struct CompareArgs {
     /// sample of as many points per frame as the windows select.
     #[arg(long)]
     pub same_budget: bool,
+    /// No plots.
+    #[arg(long)]
+    pub no_plots: bool,
+    /// Do only shard I of N (0-based) of the runs: a deterministic part, balanced by expected
+    /// cost, into `--out` with a manifest (shard.json); join the shards' folders with
+    /// `keylo compare merge`. Re-running a shard skips its finished runs.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<crate::shard::Shard>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum CompareCommand {
+    /// Join the folders of every shard of one `keylo compare --shard I/N` study into the
+    /// tables and plots one process would have written.
+    Merge(MergeArgs),
+}
+
+/// `… merge OUT DIR...` of a sharded study.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Output folder of the merged tables and plots.
+    pub out: PathBuf,
+    /// The shards' output folders (every shard of the study, once each).
+    #[arg(required = true, num_args = 1..)]
+    pub dirs: Vec<PathBuf>,
     /// No plots.
     #[arg(long)]
     pub no_plots: bool,

@@ -1,6 +1,7 @@
 //! `keylo`: keypoint-assisted LiDAR odometry from the command line.
 
 mod args;
+mod atomic;
 mod cmd_config;
 mod cmd_convert;
 mod cmd_eval;
@@ -17,6 +18,7 @@ mod plot_out;
 mod realism;
 mod report;
 mod resources;
+mod shard;
 mod trajectories;
 
 use std::process::ExitCode;

@@ -54,18 +54,23 @@ pub fn write<D: Draw>(
     register_font();
     let svg = dir.join(format!("{stem}.svg"));
     let png = dir.join(format!("{stem}.png"));
+    // Both files are drawn under temporary names and renamed, so a kill leaves no half file.
+    let svg_tmp = crate::atomic::temp_path(&svg);
     {
-        let root = SVGBackend::new(&svg, size).into_drawing_area();
+        let root = SVGBackend::new(&svg_tmp, size).into_drawing_area();
         fig.draw(&root).map_err(|e| (svg.clone(), e))?;
         root.present().map_err(|e| (svg.clone(), e.to_string()))?;
     }
+    crate::atomic::commit(&svg_tmp, &svg).map_err(|e| (svg.clone(), e.to_string()))?;
     let mut buf = vec![0u8; (size.0 * size.1 * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
         fig.draw(&root).map_err(|e| (png.clone(), e))?;
         root.present().map_err(|e| (png.clone(), e.to_string()))?;
     }
-    encode_png(&png, &buf, size).map_err(|e| (png.clone(), e))?;
+    let png_tmp = crate::atomic::temp_path(&png);
+    encode_png(&png_tmp, &buf, size).map_err(|e| (png.clone(), e))?;
+    crate::atomic::commit(&png_tmp, &png).map_err(|e| (png.clone(), e.to_string()))?;
     Ok(vec![png, svg])
 }
 

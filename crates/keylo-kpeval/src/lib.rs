@@ -19,6 +19,7 @@
 mod combos;
 mod error;
 mod frame_eval;
+pub mod items;
 mod params;
 mod plane;
 pub mod realism;
@@ -38,7 +39,7 @@ pub use params::{Definitions, MetricParams, ScalingHomography, SUPERPOINT_MATCH_
 pub use plane::Plane;
 pub use record::{csv_columns, Row, CSV_HEADER};
 pub use repeat::repeatability;
-pub use runner::{evaluate, EvalOptions};
+pub use runner::{evaluate, EvalOptions, GroupOutcome};
 pub use spec::{EvalSpec, ImageSpec, Preset};
 pub use stats::{summarise, ComboSummary, Metric, Quartiles, METRICS};
 pub use transforms::{blur, rotate, scale, Transformed};

@@ -37,7 +37,7 @@ pub struct EvalResult {
 }
 
 /// A group's rows and, when it stopped early, (what, error).
-pub(crate) type GroupOutcome = (Vec<Row>, Option<(String, String)>);
+pub type GroupOutcome = (Vec<Row>, Option<(String, String)>);
 
 /// Evaluates `combos` on `planes` with the image, metric and backend settings of `spec`.
 pub fn evaluate(
@@ -69,13 +69,13 @@ pub fn evaluate(
         pool.install(|| {
             groups
                 .into_par_iter()
-                .map(|g| run_group(g, planes, spec, &tick))
+                .map(|g| run_group(g, planes, spec, &tick, 0))
                 .collect()
         })
     } else {
         groups
             .into_iter()
-            .map(|g| run_group(g, planes, spec, &tick))
+            .map(|g| run_group(g, planes, spec, &tick, 0))
             .collect()
     };
     let mut result = EvalResult {
@@ -102,7 +102,7 @@ pub(crate) fn check_planes(planes: &[Plane]) -> Result<(), KpEvalError> {
 }
 
 /// The evaluated image size: `[image]`'s, 0 standing for the first image's own.
-fn output_size(planes: &[Plane], spec: &EvalSpec) -> (usize, usize) {
+pub(crate) fn output_size(planes: &[Plane], spec: &EvalSpec) -> (usize, usize) {
     let first = planes.first().map_or((0, 0), |p| (p.cols, p.rows));
     let pick = |v: usize, own: usize| if v == 0 { own } else { v };
     (
@@ -111,18 +111,21 @@ fn output_size(planes: &[Plane], spec: &EvalSpec) -> (usize, usize) {
     )
 }
 
-/// One detector group over every image; a failure ends the group and is returned with its rows.
+/// One detector group over every image of `planes` (the first being image `first_index` of
+/// the sequence); a failure ends the group and is returned with its rows.
 pub(crate) fn run_group(
     mut group: Group,
     planes: &[Plane],
     spec: &EvalSpec,
     tick: &(dyn Fn() + Sync),
+    first_index: usize,
 ) -> GroupOutcome {
     let mut state = GroupState::new(&group);
     let mut rows = Vec::new();
     let interpolation = crate::sweep::interpolation_name(spec.image.interpolation);
     let channel = spec.image.channel().unwrap_or(keylo_core::Channel::Signal);
-    for (index, plane) in planes.iter().enumerate() {
+    for (local, plane) in planes.iter().enumerate() {
+        let index = first_index + local;
         let outcome = plane
             .image(
                 spec.image.width,

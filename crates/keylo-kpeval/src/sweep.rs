@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::runner::run_group;
-use crate::stages::build_groups;
+use crate::stages::{build_groups, Skipped};
 use crate::{summarise, Combo, EvalSpec, KpEvalError, Plane, METRICS};
 
 /// The five interpolations, in the paper's order.
@@ -133,7 +133,7 @@ impl SweepGrid {
 }
 
 /// The mean of every metric for one combination in one cell.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct CellResult {
     pub interpolation: String,
     pub width: usize,
@@ -230,7 +230,65 @@ pub struct SweepOptions<'a> {
     pub store: PathBuf,
     /// Called with (tasks done, tasks in all, tasks resumed from the store).
     pub progress: Option<&'a (dyn Fn(usize, usize, usize) + Sync)>,
+    /// Only the tasks of these [`task_id`]s (a shard's); `None`: every task.
+    pub only: Option<&'a BTreeSet<String>>,
 }
+
+/// The name of the task of `detector`'s group in `cell`: `linear 1024x64 akaze`.
+pub fn task_id(cell: &Cell, detector: &str) -> String {
+    format!(
+        "{} {}x{} {detector}",
+        interpolation_name(cell.interpolation),
+        cell.width,
+        cell.height
+    )
+}
+
+/// The combinations of each detector group (groups in first-seen order) and the
+/// combinations skipped, found once on the first cell's size.
+fn group_combos(
+    combos: &[Combo],
+    spec: &EvalSpec,
+    grid: &SweepGrid,
+    (registry, ctx): (&Registry, &BuildContext),
+    skip_unavailable: bool,
+) -> Result<(Vec<Vec<Combo>>, Skipped), KpEvalError> {
+    let probe = grid
+        .cells()
+        .first()
+        .map_or((1024, 64), |c| (c.width, c.height));
+    let (groups, skipped) = build_groups(combos, spec, registry, ctx, probe, skip_unavailable)?;
+    let out = groups
+        .iter()
+        .map(|g| g.combos.iter().map(|(c, _)| c.clone()).collect())
+        .collect();
+    Ok((out, skipped))
+}
+
+/// Every task of a sweep in order with its expected cost (pixels × the group's cost per
+/// image, [`crate::items::group_cost`]), for splitting it into shards.
+pub fn sweep_tasks(
+    combos: &[Combo],
+    spec: &EvalSpec,
+    grid: &SweepGrid,
+    (registry, ctx): (&Registry, &BuildContext),
+    skip_unavailable: bool,
+) -> Result<SweepTasks, KpEvalError> {
+    let (groups, skipped) = group_combos(combos, spec, grid, (registry, ctx), skip_unavailable)?;
+    let mut out = Vec::new();
+    for cell in grid.cells() {
+        for gc in &groups {
+            let detector = gc.first().map_or("", |c| c.detector.as_str());
+            let pixels = (cell.width * cell.height) as f64 / (1024.0 * 64.0);
+            let cost = pixels * crate::items::group_cost(detector, gc.len());
+            out.push((task_id(&cell, detector), cost));
+        }
+    }
+    Ok((out, skipped))
+}
+
+/// `(task id, expected cost)` of every task in order, and the combinations skipped.
+pub type SweepTasks = (Vec<(String, f64)>, Skipped);
 
 /// What a sweep found.
 #[derive(Debug, Default)]
@@ -273,18 +331,19 @@ pub fn run_sweep(
         .collect();
     // The groups (one per detector) and the skipped combinations, found once.
     let cells = grid.cells();
-    let probe = cells.first().map_or((1024, 64), |c| (c.width, c.height));
-    let (probe_groups, skipped) =
-        build_groups(combos, spec, registry, ctx, probe, opts.skip_unavailable)?;
-    let group_combos: Vec<Vec<Combo>> = probe_groups
-        .iter()
-        .map(|g| g.combos.iter().map(|(c, _)| c.clone()).collect())
-        .collect();
-    drop(probe_groups);
+    let (group_combos, skipped) =
+        group_combos(combos, spec, grid, (registry, ctx), opts.skip_unavailable)?;
     let mut tasks = Vec::new();
     let mut resumed = 0;
     for cell in &cells {
         for gc in &group_combos {
+            let detector = gc.first().map_or("", |c| c.detector.as_str());
+            if opts
+                .only
+                .is_some_and(|only| !only.contains(&task_id(cell, detector)))
+            {
+                continue;
+            }
             if gc
                 .iter()
                 .all(|c| done.contains(&(cell.key(), c.name.clone())))
@@ -302,13 +361,7 @@ pub fn run_sweep(
     let run_task = |(cell, gc): &(Cell, Vec<Combo>)| -> Result<Vec<CellResult>, (String, String)> {
         let what = |e: &dyn std::fmt::Display| {
             (
-                format!(
-                    "{} {}x{} {}",
-                    interpolation_name(cell.interpolation),
-                    cell.width,
-                    cell.height,
-                    gc.first().map_or("", |c| c.detector.as_str())
-                ),
+                task_id(cell, gc.first().map_or("", |c| c.detector.as_str())),
                 e.to_string(),
             )
         };
@@ -327,7 +380,7 @@ pub fn run_sweep(
         .map_err(|e| what(&e))?;
         let mut out = Vec::new();
         for g in groups {
-            let (rows, failure) = run_group(g, planes, &cell_spec, &|| {});
+            let (rows, failure) = run_group(g, planes, &cell_spec, &|| {}, 0);
             if let Some((_, e)) = failure {
                 return Err(what(&e));
             }
@@ -376,6 +429,16 @@ pub fn run_sweep(
             Err(f) => result.failed.push(f),
         }
     }
+    sort_results(&mut all);
+    result.results = all;
+    result.images_evaluated = images.into_inner();
+    result.seconds = start.elapsed().as_secs_f64();
+    Ok(result)
+}
+
+/// Results in cell order (interpolations in the paper's order, then width, height, and
+/// combination name), the order of [`SweepResult::results`].
+pub fn sort_results(results: &mut [CellResult]) {
     let order = |r: &CellResult| {
         let i = INTERPOLATIONS
             .iter()
@@ -383,11 +446,7 @@ pub fn run_sweep(
             .unwrap_or(usize::MAX);
         (i, r.width, r.height, r.combo.clone())
     };
-    all.sort_by_key(order);
-    result.results = all;
-    result.images_evaluated = images.into_inner();
-    result.seconds = start.elapsed().as_secs_f64();
-    Ok(result)
+    results.sort_by_key(order);
 }
 
 fn open_store(path: &Path, fresh: bool) -> Result<Mutex<std::fs::File>, KpEvalError> {

@@ -193,6 +193,7 @@ fn a_sweep_resumes_from_its_csv_and_gives_the_same_results() {
         skip_unavailable: false,
         store: dir.path().join("sweep.csv"),
         progress: None,
+        only: None,
     };
     let spec = EvalSpec::default();
     let sweep = || {

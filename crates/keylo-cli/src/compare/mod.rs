@@ -15,6 +15,7 @@ mod grid;
 mod metrics;
 mod plots;
 mod schedule;
+mod sharded;
 mod tables;
 
 use std::path::{Path, PathBuf};
@@ -22,13 +23,16 @@ use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
 
-use crate::args::CompareArgs;
+use crate::args::{CompareArgs, CompareCommand};
 use crate::configs;
 use error::CompareError;
 use metrics::{Criterion, Row, Series};
 use schedule::Planned;
 
 pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
+    if let Some(CompareCommand::Merge(m)) = &args.command {
+        return sharded::merge(m, quiet);
+    }
     if args.gt.is_some() && args.data.len() > 1 {
         bail!("--gt names one ground truth, but {} --data were given: put a gt.tum beside each data instead", args.data.len());
     }
@@ -52,6 +56,18 @@ pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
         .collect::<Result<Vec<_>, _>>()?;
     grid::expand(&axes)?; // two axes on one key
     let plans = plan(&args, &axes, quiet)?;
+    let crit = Criterion {
+        max_ape_m: args.diverge_ape,
+        max_step_m: args.diverge_step,
+        t_max_diff_s: args.t_max_diff,
+    };
+    let (plans, manifest) = match args.shard {
+        Some(shard) => {
+            let (mine, manifest) = sharded::start(plans, &crit, shard);
+            (mine, Some(manifest))
+        }
+        None => (plans, None),
+    };
     if args.dry_run {
         for p in &plans {
             println!("{}\t{}", p.id, p.sets.join(" "));
@@ -60,14 +76,21 @@ pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
+    let manifest = manifest.map(|m| m.resume_in(&args.out)).transpose()?;
+    if let Some(m) = &manifest {
+        m.write(&args.out)?;
+    }
     if !quiet {
         eprintln!(
-            "keylo compare: {} runs, {} at a time, into {}",
+            "keylo compare: {} runs{}, {} at a time, into {}",
             plans.len(),
+            args.shard
+                .map_or(String::new(), |s| format!(" (shard {s})")),
             args.jobs,
             args.out.display()
         );
     }
+    let started = std::time::Instant::now();
     let outcomes = schedule::run_all(
         &plans,
         &schedule::Options {
@@ -78,37 +101,48 @@ pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
             quiet,
         },
     )?;
-    let crit = Criterion {
-        max_ape_m: args.diverge_ape,
-        max_step_m: args.diverge_step,
-        t_max_diff_s: args.t_max_diff,
-    };
+    if let Some(m) = manifest {
+        sharded::finish(m, &plans, &outcomes, started.elapsed(), &args.out)?;
+    }
+    report(&args.out, &plans, &outcomes, &crit, args.no_plots, quiet)
+}
+
+/// The tables (Markdown, CSV, JSON) and plots of finished runs, written into `out`.
+fn report(
+    out: &Path,
+    plans: &[Planned],
+    outcomes: &[schedule::Outcome],
+    crit: &Criterion,
+    no_plots: bool,
+    quiet: bool,
+) -> Result<ExitCode> {
     let (mut rows, series): (Vec<Row>, Vec<Series>) = plans
         .iter()
-        .zip(&outcomes)
-        .map(|(p, o)| metrics::collect(p, o, &crit))
+        .zip(outcomes)
+        .map(|(p, o)| metrics::collect(p, o, crit))
         .unzip();
     metrics::add_rate_ratios(&mut rows);
-    let md = tables::markdown(&rows, &crit);
-    write(&args.out.join("compare.md"), &md)?;
-    write(&args.out.join("compare.csv"), &tables::csv(&rows))?;
-    write(&args.out.join("compare.json"), &tables::json(&rows, &crit))?;
-    if !args.no_plots {
-        write_plots(&args.out, &plans, &rows, &series)?;
+    let md = tables::markdown(&rows, crit);
+    write(&out.join("compare.md"), &md)?;
+    write(&out.join("compare.csv"), &tables::csv(&rows))?;
+    write(&out.join("compare.json"), &tables::json(&rows, crit))?;
+    if !no_plots {
+        write_plots(out, plans, &rows, &series)?;
     }
     if !quiet {
         println!("{md}");
         println!(
             "written: {} (compare.md, compare.csv, compare.json{})",
-            args.out.display(),
-            if args.no_plots { "" } else { ", plots/" }
+            out.display(),
+            if no_plots { "" } else { ", plots/" }
         );
     }
     Ok(ExitCode::SUCCESS)
 }
 
+/// Writes `text` to `path` whole or not at all.
 fn write(path: &Path, text: &str) -> Result<(), CompareError> {
-    std::fs::write(path, text).map_err(|e| CompareError::io(path, e))
+    crate::atomic::write(path, text).map_err(|e| CompareError::io(path, e))
 }
 
 /// Every (data, config, grid point), checked. Each grid key is first tried alone on every
@@ -192,8 +226,9 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
             sets.extend(grid::set_strings(point, windows));
             let variant = variant_label(&stem, &grid::label(point, windows), many);
             for (data, data_label) in args.data.iter().zip(&data_labels) {
-                configs::load(&mut registry, config.as_deref(), Some(data), None, &sets)
-                    .with_context(|| format!("configuration {variant} on {data_label}"))?;
+                let loaded =
+                    configs::load(&mut registry, config.as_deref(), Some(data), None, &sets)
+                        .with_context(|| format!("configuration {variant} on {data_label}"))?;
                 let id = format!("{data_label}/{}", slug(&variant));
                 plans.push(Planned {
                     dir: args.out.join("runs").join(&id),
@@ -208,6 +243,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
                         .or_else(|| Some(data.join("gt.tum")).filter(|p| p.is_file())),
                     sets: sets.clone(),
                     realtime: args.realtime,
+                    cost: sharded::expected_cost(&loaded, data),
                 });
             }
         }

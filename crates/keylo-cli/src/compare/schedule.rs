@@ -11,7 +11,7 @@ use super::child;
 use super::error::CompareError;
 
 /// One run to do: what `keylo run` gets and where it writes.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Planned {
     /// `data-label/variant`, unique; also the run folder under `<out>/runs/`.
     pub id: String,
@@ -26,11 +26,18 @@ pub struct Planned {
     pub sets: Vec<String>,
     /// `--realtime` speed of the run (`None`: as fast as it goes).
     pub realtime: Option<f64>,
+    /// The run folder (`<out>/runs/<id>`; not part of a shard's study, whose shards write
+    /// to folders of their own).
+    #[serde(skip)]
     pub dir: PathBuf,
+    /// Expected cost relative to other runs (data bytes × a factor for the heavier stages),
+    /// for balancing shards.
+    #[serde(skip)]
+    pub cost: f64,
 }
 
 /// How a run ended, as the scheduler saw it.
-#[derive(Debug, Clone, Default, serde::Serialize)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Outcome {
     /// The run was not started: its folder already had a finished summary.json.
     pub resumed: bool,

@@ -1,12 +1,14 @@
 //! `keylo keypoints eval`: per-image results, per-combination summaries (CSV, JSON,
 //! Markdown) and a box plot per metric.
 
+use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
+use keylo::kpeval::reference::Reference;
 use keylo::kpeval::sweep::parse_interpolation;
-use keylo::kpeval::{evaluate, summarise, EvalOptions, METRICS};
+use keylo::kpeval::{evaluate, summarise, EvalOptions, EvalSpec, Row, METRICS};
 use keylo::BuildContext;
 
 use super::plots::{BoxPlot, BoxRow};
@@ -61,19 +63,7 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
         .as_deref()
         .map(keylo::kpeval::reference::Reference::read_dir)
         .transpose()?;
-    let input::Prepared {
-        registry,
-        set,
-        combos,
-        planes,
-        jobs,
-    } = input::prepare(&args.input, &spec, threads)?;
-    let out = &args.input.out;
-    let bar = progress(quiet, "evaluating");
-    let tick = |done: usize, total: usize| {
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
-    };
+    let prepared = input::prepare(&args.input, &spec, threads)?;
     let ctx = BuildContext {
         base_dir: args
             .input
@@ -81,6 +71,22 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
             .as_ref()
             .and_then(|p| p.parent().map(std::path::Path::to_path_buf))
             .unwrap_or_default(),
+    };
+    if let Some(shard) = args.input.shard {
+        return super::shards::eval_shard(&args, shard, &spec, &prepared, &ctx, quiet);
+    }
+    let input::Prepared {
+        registry,
+        set,
+        combos,
+        planes,
+        jobs,
+    } = prepared;
+    let out = args.input.out();
+    let bar = progress(quiet, "evaluating");
+    let tick = |done: usize, total: usize| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
     };
     let result = evaluate(
         &planes,
@@ -95,37 +101,70 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
         },
     )?;
     bar.finish_and_clear();
-    let summaries = summarise(&result.rows);
+    let labels: Vec<String> = planes.iter().map(|p| p.label.clone()).collect();
+    write_report(
+        out,
+        &EvalReport {
+            rows: &result.rows,
+            skipped: &result.skipped,
+            failed: &result.failed,
+            spec: &spec,
+            images: &labels,
+            jobs,
+            seconds: result.seconds,
+            paper: paper.as_ref(),
+            reference: reference.as_ref(),
+        },
+        args.input.no_plots,
+        quiet,
+    )
+}
+
+/// What an evaluation's tables and plots are made of (one process's, or merged shards').
+pub(crate) struct EvalReport<'a> {
+    pub rows: &'a [Row],
+    pub skipped: &'a [(String, String)],
+    pub failed: &'a [(String, String)],
+    pub spec: &'a EvalSpec,
+    /// The images' labels, in order.
+    pub images: &'a [String],
+    pub jobs: usize,
+    pub seconds: f64,
+    pub paper: Option<&'a PaperFigures>,
+    pub reference: Option<&'a Reference>,
+}
+
+/// per_image.csv, summary.csv/.md/.json, reference.csv/.md and the box plots, into `out`;
+/// exit status 3 when a combination group failed.
+pub(crate) fn write_report(
+    out: &Path,
+    r: &EvalReport,
+    no_plots: bool,
+    quiet: bool,
+) -> Result<ExitCode> {
+    let summaries = summarise(r.rows);
     let mut notes = vec![format!(
         "{} images ({}×{}, {}), {} combinations, {} jobs, {:.1} s.",
-        planes.len(),
-        result.rows.first().map_or(0, |r| r.width),
-        result.rows.first().map_or(0, |r| r.height),
-        keylo::kpeval::sweep::interpolation_name(spec.image.interpolation),
+        r.images.len(),
+        r.rows.first().map_or(0, |r| r.width),
+        r.rows.first().map_or(0, |r| r.height),
+        keylo::kpeval::sweep::interpolation_name(r.spec.image.interpolation),
         summaries.len(),
-        jobs,
-        result.seconds
+        r.jobs,
+        r.seconds
     )];
-    notes.extend(skip_notes(&result.skipped));
-    notes.extend(
-        result
-            .failed
-            .iter()
-            .map(|(c, why)| format!("FAILED {c}: {why}")),
-    );
+    notes.extend(skip_notes(r.skipped));
+    notes.extend(r.failed.iter().map(|(c, why)| format!("FAILED {c}: {why}")));
     let write = |name: &str, text: &str| {
         let p = out.join(name);
-        std::fs::write(&p, text).with_context(|| format!("writing {}", p.display()))
+        crate::atomic::write(&p, text).with_context(|| format!("writing {}", p.display()))
     };
-    write("per_image.csv", &report::per_image_csv(&result.rows))?;
-    write(
-        "summary.csv",
-        &report::summary_csv(&summaries, paper.as_ref()),
-    )?;
-    let mut md = report::markdown(&summaries, paper.as_ref(), &notes);
+    write("per_image.csv", &report::per_image_csv(r.rows))?;
+    write("summary.csv", &report::summary_csv(&summaries, r.paper))?;
+    let mut md = report::markdown(&summaries, r.paper, &notes);
     write("summary.md", &md)?;
-    if let Some(reference) = &reference {
-        let agreements = keylo::kpeval::reference::agreement(&result.rows, reference);
+    if let Some(reference) = r.reference {
+        let agreements = keylo::kpeval::reference::agreement(r.rows, reference);
         let table = super::reference::markdown(&agreements);
         write("reference.csv", &super::reference::csv(&agreements))?;
         write("reference.md", &table)?;
@@ -133,16 +172,16 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
         md.push_str(&table);
     }
     let json = serde_json::json!({
-        "settings": spec,
-        "images": planes.iter().map(|p| &p.label).collect::<Vec<_>>(),
-        "jobs": jobs,
-        "seconds": result.seconds,
+        "settings": r.spec,
+        "images": r.images,
+        "jobs": r.jobs,
+        "seconds": r.seconds,
         "combos": summaries,
-        "skipped": result.skipped,
-        "failed": result.failed,
+        "skipped": r.skipped,
+        "failed": r.failed,
     });
     write("summary.json", &serde_json::to_string_pretty(&json)?)?;
-    if !args.input.no_plots {
+    if !no_plots {
         for m in METRICS {
             let rows: Vec<BoxRow> = summaries
                 .iter()
@@ -162,7 +201,7 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
             }
             let height = (120 + 26 * rows.len()).clamp(300, 2000) as u32;
             let fig = BoxPlot {
-                title: format!("{} ({} images)", m.label, planes.len()),
+                title: format!("{} ({} images)", m.label, r.images.len()),
                 x_label: m.label.to_string(),
                 rows,
             };
@@ -173,10 +212,10 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
         print!("{md}");
         println!("\nresults in {}", out.display());
     }
-    if !result.failed.is_empty() {
+    if !r.failed.is_empty() {
         eprintln!(
             "error: {} combination group(s) failed; their results up to the failure are kept",
-            result.failed.len()
+            r.failed.len()
         );
         return Ok(ExitCode::from(EXIT_FRAME_FAILED));
     }

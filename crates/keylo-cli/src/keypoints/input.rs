@@ -43,8 +43,8 @@ pub fn prepare(args: &InputArgs, spec: &EvalSpec, threads: Option<usize>) -> Res
     let combos = keylo::kpeval::parse_combos(&set, &registry).context("--combos")?;
     let planes = planes(args, spec)?;
     let jobs = jobs(args.jobs, threads)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
+    std::fs::create_dir_all(args.out())
+        .with_context(|| format!("creating {}", args.out().display()))?;
     Ok(Prepared {
         registry,
         set,
@@ -121,11 +121,14 @@ pub fn planes(args: &InputArgs, spec: &EvalSpec) -> Result<Vec<Plane>> {
             args.frames
         );
     }
-    if !args.data.exists() {
-        bail!("--data {}: no such file or directory", args.data.display());
+    if !args.data().exists() {
+        bail!(
+            "--data {}: no such file or directory",
+            args.data().display()
+        );
     }
-    let pngs = if args.data.is_dir() {
-        png_files(&args.data)
+    let pngs = if args.data().is_dir() {
+        png_files(args.data())
     } else {
         Vec::new()
     };
@@ -142,7 +145,7 @@ pub fn planes(args: &InputArgs, spec: &EvalSpec) -> Result<Vec<Plane>> {
     }
     let channel = spec.image.channel()?;
     let data = DataArgs {
-        data: args.data.clone(),
+        data: args.data().to_path_buf(),
         meta: args.meta.clone(),
         sets: Vec::new(),
     };
@@ -150,7 +153,8 @@ pub fn planes(args: &InputArgs, spec: &EvalSpec) -> Result<Vec<Plane>> {
     let (_, mut source) = configs::open_data(&mut registry, &data)?;
     let mut i = 0usize;
     while let Some(frame) = source.next_frame() {
-        let frame = frame.with_context(|| format!("--data {}: frame {i}", args.data.display()))?;
+        let frame =
+            frame.with_context(|| format!("--data {}: frame {i}", args.data().display()))?;
         match wanted(i, args) {
             None => break,
             Some(false) => {}

@@ -7,9 +7,10 @@ pub(crate) mod input;
 mod plots;
 mod reference;
 mod report;
+mod shards;
 mod sweep;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Result;
@@ -28,8 +29,8 @@ pub enum KeypointsCommand {
 pub struct InputArgs {
     /// Data: any path `keylo run --data` reads (pcap, bag, mcap, KITTI/PLY/PCD folder, keylo
     /// frame folder), or a folder of PNG images (8- or 16-bit, taken in natural name order).
-    #[arg(long)]
-    pub data: PathBuf,
+    #[arg(long = "data", required = true)]
+    pub data_path: Option<PathBuf>,
     /// Sensor metadata (an Ouster capture's JSON when it is not X.json beside X.pcap).
     #[arg(long)]
     pub meta: Option<PathBuf>,
@@ -63,15 +64,44 @@ pub struct InputArgs {
     #[arg(long)]
     pub jobs: Option<usize>,
     /// Output folder.
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long = "out", required = true)]
+    pub out_dir: Option<PathBuf>,
     /// No plots.
     #[arg(long)]
     pub no_plots: bool,
+    /// Do only shard I of N (0-based) of the work: a deterministic part (eval: detector group
+    /// × block of 25 images; sweep: cell × detector group), balanced by expected cost, into
+    /// `--out` with a manifest (shard.json); join the shards with `… merge OUT DIR...`.
+    /// Re-running a shard skips its finished items.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<crate::shard::Shard>,
+}
+
+impl InputArgs {
+    /// `--data` (clap requires it unless `merge` is given).
+    pub fn data(&self) -> &Path {
+        self.data_path.as_deref().unwrap_or(Path::new(""))
+    }
+
+    /// `--out` (clap requires it unless `merge` is given).
+    pub fn out(&self) -> &Path {
+        self.out_dir.as_deref().unwrap_or(Path::new(""))
+    }
+}
+
+/// `merge`: the shards of one study joined.
+#[derive(Debug, Subcommand)]
+pub enum ShardCommand {
+    /// Join the folders of every shard of one `--shard I/N` study into the tables and plots
+    /// one process would have written.
+    Merge(crate::args::MergeArgs),
 }
 
 #[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct EvalArgs {
+    #[command(subcommand)]
+    pub command: Option<ShardCommand>,
     #[command(flatten)]
     pub input: InputArgs,
     /// Image width (overrides `[image] width`; 0: the frame's own).
@@ -95,7 +125,10 @@ pub struct EvalArgs {
 }
 
 #[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct SweepArgs {
+    #[command(subcommand)]
+    pub command: Option<ShardCommand>,
     #[command(flatten)]
     pub input: InputArgs,
     /// Interpolations (comma-separated; default: all five).
@@ -111,6 +144,14 @@ pub struct SweepArgs {
 
 pub fn run(cmd: KeypointsCommand, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
     match cmd {
+        KeypointsCommand::Eval(EvalArgs {
+            command: Some(ShardCommand::Merge(m)),
+            ..
+        }) => shards::eval_merge(&m, quiet),
+        KeypointsCommand::Sweep(SweepArgs {
+            command: Some(ShardCommand::Merge(m)),
+            ..
+        }) => shards::sweep_merge(&m, quiet),
         KeypointsCommand::Eval(a) => eval::run(a, threads, quiet),
         KeypointsCommand::Sweep(a) => sweep::run(a, threads, quiet),
     }

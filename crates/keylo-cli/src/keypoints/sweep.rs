@@ -2,14 +2,15 @@
 //! and overall, tables by interpolation and by resolution, and heat maps.
 
 use std::fmt::Write as _;
+use std::path::Path;
 use std::process::ExitCode;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use keylo::kpeval::sweep::{
     interpolation_name, parse_interpolation, parse_sizes, run_sweep, CellResult, SweepGrid,
-    SweepOptions,
+    SweepOptions, SweepResult,
 };
-use keylo::kpeval::{Metric, METRICS};
+use keylo::kpeval::{EvalSpec, Metric, METRICS};
 use keylo::BuildContext;
 
 use super::eval::{progress, skip_notes};
@@ -85,14 +86,7 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
         widths: parse_sizes(&args.widths, "--widths")?,
         heights: parse_sizes(&args.heights, "--heights")?,
     };
-    let input::Prepared {
-        registry,
-        set,
-        combos,
-        planes,
-        jobs,
-    } = input::prepare(&args.input, &spec, threads)?;
-    let out = &args.input.out;
+    let prepared = input::prepare(&args.input, &spec, threads)?;
     let bar = progress(quiet, "sweeping");
     let tick = |done: usize, total: usize, resumed: usize| {
         bar.set_length(total as u64);
@@ -101,6 +95,20 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
             bar.set_message(format!("({resumed} resumed)"));
         }
     };
+    if let Some(shard) = args.input.shard {
+        let code =
+            super::shards::sweep_shard(&args, shard, (&spec, &grid), &prepared, quiet, &tick);
+        bar.finish_and_clear();
+        return code;
+    }
+    let input::Prepared {
+        registry,
+        set,
+        combos,
+        planes,
+        jobs,
+    } = prepared;
+    let out = args.input.out();
     let result = run_sweep(
         &planes,
         &combos,
@@ -113,9 +121,42 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
             skip_unavailable: set.skips_unavailable(),
             store: out.join("sweep.csv"),
             progress: Some(&tick),
+            only: None,
         },
     )?;
     bar.finish_and_clear();
+    write_report(
+        out,
+        &SweepReport {
+            grid: &grid,
+            spec: &spec,
+            images: planes.len(),
+            jobs,
+            result: &result,
+        },
+        args.input.no_plots,
+        quiet,
+    )
+}
+
+/// What a sweep's tables and plots are made of (one process's, or merged shards').
+pub(crate) struct SweepReport<'a> {
+    pub grid: &'a SweepGrid,
+    pub spec: &'a EvalSpec,
+    /// Images per cell.
+    pub images: usize,
+    pub jobs: usize,
+    pub result: &'a SweepResult,
+}
+
+/// sweep.md, sweep.json and the heat maps, into `out`; exit status 3 when a task failed.
+pub(crate) fn write_report(
+    out: &Path,
+    r: &SweepReport,
+    no_plots: bool,
+    quiet: bool,
+) -> Result<ExitCode> {
+    let (grid, result) = (r.grid, r.result);
     let cell_label = |r: &CellResult| format!("{} {}x{}", r.interpolation, r.width, r.height);
     let by_cell = group_by(&result.results, cell_label);
     let mut md = String::from("## Keypoint sweep\n\n");
@@ -123,12 +164,12 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
         md,
         "{} images per cell, {} cells × {} detector groups ({} run now, {} resumed), {} jobs; \
          {} image evaluations in {:.1} s ({:.1} per second).\n",
-        planes.len(),
+        r.images,
         grid.cells().len(),
         (result.tasks_run + result.tasks_resumed) / grid.cells().len().max(1),
         result.tasks_run,
         result.tasks_resumed,
-        jobs,
+        r.jobs,
         result.images_evaluated,
         result.seconds,
         result.images_evaluated as f64 / result.seconds.max(1e-9)
@@ -176,11 +217,15 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
     for (c, why) in &result.failed {
         let _ = writeln!(md, "\nFAILED {c}: {why}");
     }
-    std::fs::write(out.join("sweep.md"), &md)?;
+    let write = |name: &str, text: &str| {
+        let p = out.join(name);
+        crate::atomic::write(&p, text).with_context(|| format!("writing {}", p.display()))
+    };
+    write("sweep.md", &md)?;
     let json = serde_json::json!({
-        "settings": spec,
-        "images": planes.len(),
-        "jobs": jobs,
+        "settings": r.spec,
+        "images": r.images,
+        "jobs": r.jobs,
         "seconds": result.seconds,
         "images_evaluated": result.images_evaluated,
         "tasks_run": result.tasks_run,
@@ -190,8 +235,8 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
         "skipped": result.skipped,
         "failed": result.failed,
     });
-    std::fs::write(out.join("sweep.json"), serde_json::to_string_pretty(&json)?)?;
-    if !args.input.no_plots {
+    write("sweep.json", &serde_json::to_string_pretty(&json)?)?;
+    if !no_plots {
         for &interp in &grid.interpolations {
             let name = interpolation_name(interp);
             for m in METRICS {
