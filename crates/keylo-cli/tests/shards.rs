@@ -97,6 +97,23 @@ fn compare_shards_merge_into_the_tables_of_one_process_and_bad_sets_are_named() 
         .unwrap()
         .values()
         .all(|o| o["resumed"] == true));
+    // A shard killed mid-run (its manifest incomplete, one run without its summary) runs
+    // that run again and only that one.
+    let mut m = read_json(&shards[1].join("shard.json"));
+    let victim = m["items"][0].as_str().unwrap().to_string();
+    m["complete"] = Value::Bool(false);
+    m["results"].as_object_mut().unwrap().remove(&victim);
+    std::fs::write(shards[1].join("shard.json"), m.to_string()).unwrap();
+    std::fs::remove_file(shards[1].join("runs").join(&victim).join("summary.json")).unwrap();
+    run_ok(
+        &with(&["--out", &path(&shards[1]), "--shard", "1/3"]),
+        tmp.path(),
+    );
+    let m = read_json(&shards[1].join("shard.json"));
+    assert_eq!(m["complete"], true, "{m}");
+    for (id, o) in m["results"].as_object().unwrap() {
+        assert_eq!(o["resumed"], *id != victim, "{id}: {o}");
+    }
     let merge = |out: &str, dirs: &[&PathBuf]| {
         let mut a = strings(&["compare", "merge", out]);
         a.extend(dirs.iter().map(|d| path(d)));
@@ -277,6 +294,26 @@ fn keypoint_eval_shards_merge_into_the_rows_of_one_process() {
             .collect::<Vec<_>>()
     };
     assert_eq!(summary("single"), summary("merged"));
+    // A killed eval shard (one item's rows not recorded) does that item again.
+    let manifest = tmp.path().join("s1/shard.json");
+    let mut m = read_json(&manifest);
+    let victim = m["items"][0].as_str().unwrap().to_string();
+    m["complete"] = Value::Bool(false);
+    m["results"].as_object_mut().unwrap().remove(&victim);
+    std::fs::write(&manifest, m.to_string()).unwrap();
+    run_ok(&with(&["--out", "s1", "--shard", "1/2"]), tmp.path());
+    let again = read_json(&manifest);
+    assert_eq!(again["complete"], true);
+    for (id, r) in m["results"].as_object().unwrap() {
+        // Finished items were not evaluated again: their recorded times are unchanged.
+        assert_eq!(again["results"][id]["seconds"], r["seconds"], "{id}");
+    }
+    assert!(again["results"][&victim]["rows"].is_array());
+    run_ok(
+        &strings(&["keypoints", "eval", "merge", "merged2", "s0", "s1"]),
+        tmp.path(),
+    );
+    assert_eq!(single, rows("merged2"));
     let o = keylo(&["keypoints", "eval", "merge", "m2", "s0"], tmp.path());
     expect_failure(&o, 2, "missing");
     let o = keylo(

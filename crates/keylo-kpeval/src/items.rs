@@ -84,8 +84,8 @@ pub fn eval_items(
     Ok((items, skipped))
 }
 
-/// Evaluates `items` (at most `opts.jobs` at a time); `done(i, outcome)` is called as item
-/// `i` finishes. Returns the outcomes in item order.
+/// Evaluates `items` (at most `opts.jobs` at a time); `done(i, outcome, seconds)` is called
+/// as item `i` finishes. Returns the outcomes in item order.
 pub fn evaluate_items(
     planes: &[Plane],
     combos: &[Combo],
@@ -93,11 +93,12 @@ pub fn evaluate_items(
     (registry, ctx): (&Registry, &BuildContext),
     opts: &EvalOptions,
     items: &[EvalItem],
-    done: &(dyn Fn(usize, &GroupOutcome) + Sync),
+    done: &(dyn Fn(usize, &GroupOutcome, f64) + Sync),
 ) -> Result<Vec<GroupOutcome>, KpEvalError> {
     check_planes(planes)?;
     let size = output_size(planes, spec);
     let run = |(i, item): (usize, &EvalItem)| -> Result<GroupOutcome, KpEvalError> {
+        let start = std::time::Instant::now();
         let own: Vec<Combo> = combos
             .iter()
             .filter(|c| c.detector == item.detector)
@@ -116,7 +117,7 @@ pub fn evaluate_items(
         let (mut rows, failure) = run_group(group, &planes[from..end], spec, &|| {}, from);
         rows.retain(|r| r.index >= item.images.start);
         let outcome = (rows, failure);
-        done(i, &outcome);
+        done(i, &outcome, start.elapsed().as_secs_f64());
         Ok(outcome)
     };
     if opts.jobs > 1 {

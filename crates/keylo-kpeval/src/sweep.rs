@@ -232,6 +232,8 @@ pub struct SweepOptions<'a> {
     pub progress: Option<&'a (dyn Fn(usize, usize, usize) + Sync)>,
     /// Only the tasks of these [`task_id`]s (a shard's); `None`: every task.
     pub only: Option<&'a BTreeSet<String>>,
+    /// Called with a task's id and its wall-clock seconds as it finishes.
+    pub timed: Option<&'a (dyn Fn(&str, f64) + Sync)>,
 }
 
 /// The name of the task of `detector`'s group in `cell`: `linear 1024x64 akaze`.
@@ -359,6 +361,7 @@ pub fn run_sweep(
     let finished = std::sync::atomic::AtomicUsize::new(resumed);
     let images = std::sync::atomic::AtomicUsize::new(0);
     let run_task = |(cell, gc): &(Cell, Vec<Combo>)| -> Result<Vec<CellResult>, (String, String)> {
+        let started = Instant::now();
         let what = |e: &dyn std::fmt::Display| {
             (
                 task_id(cell, gc.first().map_or("", |c| c.detector.as_str())),
@@ -403,6 +406,10 @@ pub fn run_sweep(
                 .collect();
             // A failed write only loses resumability of this cell.
             let _ = f.write_all(text.as_bytes()).and_then(|()| f.flush());
+        }
+        if let Some(t) = opts.timed {
+            let detector = gc.first().map_or("", |c| c.detector.as_str());
+            t(&task_id(cell, detector), started.elapsed().as_secs_f64());
         }
         let n = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         if let Some(p) = opts.progress {

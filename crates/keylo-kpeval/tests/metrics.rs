@@ -194,6 +194,7 @@ fn a_sweep_resumes_from_its_csv_and_gives_the_same_results() {
         store: dir.path().join("sweep.csv"),
         progress: None,
         only: None,
+        timed: None,
     };
     let spec = EvalSpec::default();
     let sweep = || {

@@ -130,8 +130,8 @@ pub fn eval_shard(
         .collect();
     let manifest = Mutex::new(manifest);
     let write_error: Mutex<Option<ShardError>> = Mutex::new(None);
-    let done = |i: usize, (rows, failure): &(Vec<Row>, Option<(String, String)>)| {
-        let result = json!({ "rows": rows, "failed": failure });
+    let done = |i: usize, (rows, failure): &(Vec<Row>, Option<(String, String)>), secs: f64| {
+        let result = json!({ "rows": rows, "failed": failure, "seconds": secs });
         if let (Ok(mut m), Some(item)) = (manifest.lock(), todo.get(i)) {
             m.results.insert(item.id(), result);
             if let Err(e) = m.write(out) {
@@ -278,6 +278,12 @@ pub fn sweep_shard(
     });
     let mut m = open(SWEEP, shard, detail, &tasks, out)?;
     let only: BTreeSet<String> = m.items.iter().cloned().collect();
+    let seconds: Mutex<BTreeMap<String, f64>> = Mutex::new(BTreeMap::new());
+    let timed = |id: &str, s: f64| {
+        if let Ok(mut t) = seconds.lock() {
+            t.insert(id.to_string(), s);
+        }
+    };
     let result = run_sweep(
         &p.planes,
         &p.combos,
@@ -291,6 +297,7 @@ pub fn sweep_shard(
             store: out.join("sweep.csv"),
             progress: Some(progress),
             only: Some(&only),
+            timed: Some(&timed),
         },
     )?;
     let detector: BTreeMap<&str, &str> = p
@@ -311,13 +318,21 @@ pub fn sweep_shard(
     for r in &result.results {
         cells.entry(task_of(r)).or_default().push(r);
     }
+    let times = seconds.into_inner().unwrap_or_default();
     for id in &m.items {
         let failure = result.failed.iter().find(|(what, _)| what == id);
         let found = cells.get(id).filter(|c| !c.is_empty());
-        if found.is_some() || failure.is_some() {
-            let entry = json!({ "cells": found.cloned().unwrap_or_default(), "failed": failure });
-            m.results.insert(id.clone(), entry);
+        if found.is_none() && failure.is_none() {
+            continue;
         }
+        // A task resumed from sweep.csv keeps the seconds recorded when it ran.
+        let secs = times
+            .get(id)
+            .copied()
+            .or_else(|| m.results.get(id).and_then(|r| r["seconds"].as_f64()));
+        let entry = json!({ "cells": found.cloned().unwrap_or_default(), "failed": failure,
+                            "seconds": secs });
+        m.results.insert(id.clone(), entry);
     }
     m.complete = m.items.iter().all(|id| m.results.contains_key(id));
     m.seconds = started.elapsed().as_secs_f64();

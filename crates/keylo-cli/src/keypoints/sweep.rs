@@ -122,6 +122,7 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
             store: out.join("sweep.csv"),
             progress: Some(&tick),
             only: None,
+            timed: None,
         },
     )?;
     bar.finish_and_clear();
