@@ -65,6 +65,10 @@ impl Hasher for VoxelHasher {
     fn write_usize(&mut self, v: usize) {
         self.add(v as u64);
     }
+    #[inline]
+    fn write_u64(&mut self, v: u64) {
+        self.add(v);
+    }
 }
 
 /// A hash map keyed by voxel with the deterministic hasher.

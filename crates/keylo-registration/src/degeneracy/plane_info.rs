@@ -61,6 +61,42 @@ pub fn plane_information(
     partials.iter().fold(Sums::default(), Sums::add).finish()
 }
 
+/// [`plane_information`] with the planar normal of each picked point's nearest map point given
+/// by `planar(q)` (`None`: no neighbour, or not planar) instead of computed: the same sums, in
+/// the same order, so the same result when `planar` gives what [`plane_normal`] would.
+pub(crate) fn plane_information_with(
+    source: &[Point3<f64>],
+    map: &VoxelHashMap,
+    pose: &Isometry3<f64>,
+    max_distance: f64,
+    max_points: usize,
+    mut planar: impl FnMut(&[Option<Point3<f64>>]) -> Vec<Option<Vector3<f64>>>,
+) -> PlaneInformation {
+    let picked: Vec<Point3<f64>> = source
+        .iter()
+        .step_by(stride(source, max_points))
+        .copied()
+        .collect();
+    let neighbours: Vec<Option<Point3<f64>>> = picked
+        .par_iter()
+        .with_min_len(CHUNK)
+        .map(|p| {
+            map.closest_neighbour_within(&(pose * p), max_distance)
+                .map(|(q, _)| q)
+        })
+        .collect();
+    let normals = planar(&neighbours);
+    let partials: Vec<Sums> = picked
+        .par_chunks(CHUNK)
+        .zip(normals.par_chunks(CHUNK))
+        .map(|(chunk, ns)| {
+            let mut given = ns.iter();
+            sums(chunk.iter(), pose, |_| given.next().copied().flatten())
+        })
+        .collect();
+    partials.iter().fold(Sums::default(), Sums::add).finish()
+}
+
 /// The information of (an even stride of at most `max_points` of) `source` placed at `pose`,
 /// with `normal_at(world point)` giving the unit normal of the surface the point lies on
 /// (`None`: no planar surface there; the point gives nothing).
@@ -143,11 +179,15 @@ pub(crate) fn planar_normal_of(cov: &Matrix3<f64>) -> Option<Vector3<f64>> {
     (l1 > 0.0 && l0 < PLANARITY * l1).then_some(n)
 }
 
-/// The direction in which `points` spread least (PCL's normal: the covariance's smallest
-/// eigenvector, planar or not; across a line or an edge it has no component along it), `None`
-/// with fewer than 5 points.
-pub(crate) fn least_spread_normal(points: &[Point3<f64>]) -> Option<Vector3<f64>> {
-    least_spread_of(&covariance(points)?).map(|(n, ..)| n)
+/// Both normals of `points` from one eigen-decomposition: the direction in which they spread
+/// least (PCL's normal: the covariance's smallest eigenvector, planar or not; across a line or
+/// an edge it has no component along it; `None` with fewer than 5 points), and
+/// [`plane_normal`].
+pub(crate) fn normals_of(points: &[Point3<f64>]) -> (Option<Vector3<f64>>, Option<Vector3<f64>>) {
+    let Some((n, l0, l1)) = covariance(points).and_then(|c| least_spread_of(&c)) else {
+        return (None, None);
+    };
+    (Some(n), (l1 > 0.0 && l0 < PLANARITY * l1).then_some(n))
 }
 
 /// The sample covariance of `points`, `None` with fewer than 5.

@@ -46,6 +46,8 @@ pub struct HybridSettings {
 pub struct HybridResult {
     pub pose: Isometry3<f64>,
     pub iterations: usize,
+    /// Of those, the iterations of stage 1 (the cloud alone; 0 without a gate or pairs).
+    pub stage1_iterations: usize,
     pub converged: bool,
     /// Steps Clarabel failed on and Gauss–Newton took instead.
     pub fallbacks: usize,
@@ -80,6 +82,7 @@ pub fn align(
     let mut result = HybridResult {
         pose: *guess,
         iterations: 0,
+        stage1_iterations: 0,
         converged: false,
         fallbacks: 0,
         keypoint_inliers: 0,
@@ -144,6 +147,7 @@ pub fn align(
         correction.rotation.renormalize();
         let still = dx.norm() < s.icp.convergence;
         if verified.is_none() && (still || iteration >= STAGE1_MAX_ITERATIONS) {
+            result.stage1_iterations = iteration;
             let at = correction * guess;
             verified = Some(Cow::Owned(pairs_within(
                 pairs,

@@ -82,14 +82,14 @@ impl Hybrid {
     }
 
     /// The settings of this frame's alignment: weak directions of the cloud at the guess.
-    fn settings(&self, prepared: &Prepared, pairs: &Correspondences) -> HybridSettings {
+    fn settings(&mut self, prepared: &Prepared, pairs: &Correspondences) -> HybridSettings {
         let c = &self.config;
-        let info = degeneracy::plane_information(
+        let info = plane_terms::plane_information_cached(
             &prepared.source,
             self.icp.map(),
             &prepared.guess,
-            prepared.settings.max_distance,
-            c.icp.degeneracy.max_points,
+            (prepared.settings.max_distance, c.icp.degeneracy.max_points),
+            &mut self.normals,
         );
         let d = degeneracy::analyse(
             &info.matrix,
@@ -111,6 +111,28 @@ impl Hybrid {
             point_to_plane: c.cloud_residual == CloudResidual::PointToPlane,
             clarabel: c.solver == HybridSolver::Clarabel,
         }
+    }
+
+    /// The degeneracy report of the aligned cloud (`KissIcp::degeneracy`'s, with the normals
+    /// of this frame's cache).
+    fn degeneracy(&mut self, prepared: &Prepared, pose: &Isometry3<f64>) -> Option<Degeneracy> {
+        let c = &self.config.icp.degeneracy;
+        if !c.analyse || self.icp.map().is_empty() || prepared.source.is_empty() {
+            return None;
+        }
+        let info = plane_terms::plane_information_cached(
+            &prepared.source,
+            self.icp.map(),
+            pose,
+            (prepared.settings.max_distance, c.max_points),
+            &mut self.normals,
+        );
+        Some(degeneracy::analyse(
+            &info.matrix,
+            info.residuals,
+            info.rms_range,
+            c.weak_ratio,
+        ))
     }
 
     fn register_points(
@@ -135,7 +157,6 @@ impl Hybrid {
             &rules,
         );
         let settings = self.settings(&prepared, &pairs);
-        self.normals.clear();
         let result = align::align(
             &prepared.source,
             self.icp.map(),
@@ -145,7 +166,7 @@ impl Hybrid {
             (&mut self.scratch, &mut self.normals),
         );
         tracing::debug!(
-            "hybrid: {} keypoint pairs ({} inliers), {} weak direction(s) {}, {} iterations",
+            "hybrid: {} keypoint pairs ({} inliers), {} weak direction(s) {}, {} iterations ({} in stage 1)",
             pairs.len(),
             result.keypoint_inliers,
             settings.weak.len(),
@@ -154,7 +175,8 @@ impl Hybrid {
             } else {
                 "left to the keypoints"
             },
-            result.iterations
+            result.iterations,
+            result.stage1_iterations
         );
         if result.fallbacks > 0 {
             tracing::warn!(
@@ -163,11 +185,7 @@ impl Hybrid {
                 result.iterations
             );
         }
-        let degeneracy = self.icp.degeneracy(
-            &prepared.source,
-            &result.pose,
-            prepared.settings.max_distance,
-        );
+        let degeneracy = self.degeneracy(&prepared, &result.pose);
         let registered = prepared.source.len();
         self.icp.finish(prepared, &result.pose)?;
         self.previous = PreviousKeypoints::placed(

@@ -7,37 +7,143 @@
 //! or an edge, so in a corridor the cloud leaves the axis to the keypoints instead of pulling
 //! towards the nearest samples.
 //!
-//! Normals are computed once per map point and frame ([`NormalCache`]), since the nearest
-//! neighbours barely change between Gauss–Newton iterations.
+//! Normals are computed once per map point and kept across frames until the map changes
+//! around the point ([`NormalCache`]).
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hash, Hasher};
 
-use nalgebra::{Point3, RowVector6, Vector3};
+use keylo_core::voxel::{voxel_of, VoxelHasher, VoxelMap};
+use nalgebra::{Isometry3, Point3, RowVector6, Vector3};
 use rayon::prelude::*;
 
-use crate::degeneracy::least_spread_normal;
+use crate::degeneracy::{normals_of, plane_information_with, PlaneInformation};
 use crate::kiss_icp::icp::{IcpSettings, System};
-use crate::kiss_icp::voxel_map::VoxelHashMap;
+use crate::kiss_icp::voxel_map::{VoxelHashMap, NEIGHBOURS};
 
 /// Points per parallel work item; sums are reduced in chunk order (thread-count independent).
 const CHUNK: usize = 512;
 
-/// Map points' normals ([`normal_at`]; `None`: too few points around) for one frame, keyed by
-/// the point's bits.
-#[derive(Debug, Default)]
-pub struct NormalCache {
-    normals: HashMap<[u64; 3], Option<Vector3<f64>>>,
+/// The two normals of a map point's neighbourhood (the map points within one voxel of it):
+/// the direction of least spread ([`normal_at`]; `None`: fewer than 5 points) and the normal
+/// when the neighbourhood is planar (the degeneracy analysis's).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Normals {
+    pub least: Option<Vector3<f64>>,
+    pub planar: Option<Vector3<f64>>,
 }
 
-fn key(q: &Point3<f64>) -> [u64; 3] {
-    [q.x.to_bits(), q.y.to_bits(), q.z.to_bits()]
+/// Map points' [`Normals`], keyed by the point's bits. They depend only on the map points in
+/// the 27 voxels around the point's voxel (which hold every point within one voxel of it), so
+/// after a map update only those around the voxels it changed are dropped; the others are
+/// exactly what would be computed again. Shared by the point-to-plane terms and the degeneracy
+/// analyses of a frame.
+#[derive(Debug, Default)]
+pub struct NormalCache {
+    normals: HashMap<Key, Normals, BuildHasherDefault<VoxelHasher>>,
+    /// The cached points of each voxel, to drop them when the map changes around it.
+    by_voxel: VoxelMap<Vec<Key>>,
+    /// The map's [`VoxelHashMap::updates`] the normals are of (`None`: none yet).
+    synced: Option<u64>,
+}
+
+/// A map point's bits, hashed as three words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Key([u64; 3]);
+
+impl Hash for Key {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        for w in self.0 {
+            state.write_u64(w);
+        }
+    }
+}
+
+fn key(q: &Point3<f64>) -> Key {
+    Key([q.x.to_bits(), q.y.to_bits(), q.z.to_bits()])
 }
 
 impl NormalCache {
-    /// Forgets every normal (the map changed).
+    /// Forgets every normal.
     pub fn clear(&mut self) {
         self.normals.clear();
+        self.by_voxel.clear();
+        self.synced = None;
     }
+
+    /// Keeps the normals still valid for `map`: all when it is the map they were computed on,
+    /// those away from the voxels its last update changed when it is one update later, none
+    /// otherwise.
+    fn sync(&mut self, map: &VoxelHashMap) {
+        let now = map.updates();
+        match self.synced {
+            Some(v) if v == now => {}
+            Some(v) if v + 1 == now => {
+                for c in map.changed_in_last_update() {
+                    for d in NEIGHBOURS {
+                        let around = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
+                        for k in self.by_voxel.remove(&around).unwrap_or_default() {
+                            self.normals.remove(&k);
+                        }
+                    }
+                }
+            }
+            _ => {
+                self.normals.clear();
+                self.by_voxel.clear();
+            }
+        }
+        self.synced = Some(now);
+    }
+
+    /// Computes (in parallel) and caches the normals of the map points `qs` not cached yet.
+    pub fn fill<'a>(&mut self, map: &VoxelHashMap, qs: impl Iterator<Item = &'a Point3<f64>>) {
+        self.sync(map);
+        let size = map.voxel_size();
+        let mut fresh: Vec<Point3<f64>> = qs
+            .filter(|q| !self.normals.contains_key(&key(q)))
+            .copied()
+            .collect();
+        fresh.sort_unstable_by_key(key);
+        fresh.dedup();
+        let computed: Vec<Normals> = fresh
+            .par_iter()
+            .with_min_len(64)
+            .map_init(Vec::new, |near, q| normals_at(map, q, near))
+            .collect();
+        for (q, n) in fresh.iter().zip(computed) {
+            self.normals.insert(key(q), n);
+            self.by_voxel
+                .entry(voxel_of(q, size))
+                .or_default()
+                .push(key(q));
+        }
+    }
+
+    /// The normals of `qs` (each filled before; a missing one counts as none), in order.
+    pub fn normals_of(&self, qs: &[Option<Point3<f64>>]) -> Vec<Normals> {
+        qs.par_iter()
+            .with_min_len(CHUNK)
+            .map(|q| {
+                q.and_then(|q| self.normals.get(&key(&q)).copied())
+                    .unwrap_or_default()
+            })
+            .collect()
+    }
+
+    /// Normals held (for tests).
+    #[cfg(test)]
+    fn len(&self) -> usize {
+        self.normals.len()
+    }
+}
+
+/// Both normals of the map around its point `q`; `near` is scratch.
+fn normals_at(map: &VoxelHashMap, q: &Point3<f64>, near: &mut Vec<Point3<f64>>) -> Normals {
+    near.clear();
+    map.points_within(q, map.voxel_size(), near);
+    let (least, planar) = normals_of(near);
+    Normals { least, planar }
 }
 
 /// The normal of the map around its point `q`: the direction of least spread of the map
@@ -47,15 +153,27 @@ pub(crate) fn normal_at(
     q: &Point3<f64>,
     near: &mut Vec<Point3<f64>>,
 ) -> Option<Vector3<f64>> {
-    near.clear();
-    map.points_within(q, map.voxel_size(), near);
-    least_spread_normal(near)
+    normals_at(map, q, near).least
+}
+
+/// The degeneracy information ([`crate::degeneracy::plane_information`], the same result) of
+/// `source` at `pose`, its normals taken from (and added to) `cache`.
+pub(crate) fn plane_information_cached(
+    source: &[Point3<f64>],
+    map: &VoxelHashMap,
+    pose: &Isometry3<f64>,
+    (max_distance, max_points): (f64, usize),
+    cache: &mut NormalCache,
+) -> PlaneInformation {
+    plane_information_with(source, map, pose, max_distance, max_points, |qs| {
+        cache.fill(map, qs.iter().flatten());
+        cache.normals_of(qs).iter().map(|n| n.planar).collect()
+    })
 }
 
 /// The normal equations (twist about the world origin, as [`crate::kiss_icp::icp`]) of
 /// `source` (world frame) against `map`, of the points whose nearest neighbour has a normal,
-/// Geman–McClure weights `κ² / (κ + r²)²` as
-/// upstream KISS-ICP's.
+/// Geman–McClure weights `κ² / (κ + r²)²` as upstream KISS-ICP's.
 pub(crate) fn plane_system(
     source: &[Point3<f64>],
     map: &VoxelHashMap,
@@ -70,27 +188,11 @@ pub(crate) fn plane_system(
                 .map(|(q, _)| q)
         })
         .collect();
-    // Normals of neighbours not seen yet this frame, in parallel, then cached: afterwards the
-    // cache holds every neighbour's.
-    let mut fresh: Vec<Point3<f64>> = pairs
-        .iter()
-        .flatten()
-        .filter(|q| !cache.normals.contains_key(&key(q)))
-        .copied()
-        .collect();
-    fresh.sort_unstable_by_key(key);
-    fresh.dedup();
-    let computed: Vec<Option<Vector3<f64>>> = fresh
-        .par_iter()
-        .with_min_len(64)
-        .map_init(Vec::new, |near, q| normal_at(map, q, near))
-        .collect();
-    for (q, n) in fresh.iter().zip(computed) {
-        cache.normals.insert(key(q), n);
-    }
-    let normals: Vec<Option<Vector3<f64>>> = pairs
-        .iter()
-        .map(|q| q.and_then(|q| cache.normals.get(&key(&q)).copied().flatten()))
+    cache.fill(map, pairs.iter().flatten());
+    let normals: Vec<Option<Vector3<f64>>> = cache
+        .normals_of(&pairs)
+        .into_iter()
+        .map(|n| n.least)
         .collect();
     let partials: Vec<System> = source
         .par_chunks(CHUNK)
@@ -168,9 +270,38 @@ mod tests {
         let dy = -(h.cholesky().map(|c| c.solve(&g)).unwrap_or_default())[0];
         assert!((dy + 0.1).abs() < 0.02, "step across: {dy}");
         // The cache answers the second iteration without new normals.
-        let cached = cache.normals.len();
+        let cached = cache.len();
         let again = plane_system(&shifted, &map, &settings(), &mut cache);
-        assert_eq!(cache.normals.len(), cached);
+        assert_eq!(cache.len(), cached);
         assert_eq!(again.jtj, sys.jtj);
+    }
+
+    #[test]
+    fn cached_normals_stay_those_of_the_map_after_updates() {
+        let mut map = VoxelHashMap::new(0.5, 100.0, 20);
+        map.update(&corridor(1), &Isometry3::identity());
+        let mut cache = NormalCache::default();
+        let queries: Vec<Point3<f64>> = map.points().into_iter().step_by(3).collect();
+        for step in 0..4 {
+            let qs: Vec<Option<Point3<f64>>> = queries.iter().copied().map(Some).collect();
+            cache.fill(&map, queries.iter());
+            let cached = cache.normals_of(&qs);
+            let mut near = Vec::new();
+            for (q, c) in queries.iter().zip(&cached) {
+                let fresh = normals_at(&map, q, &mut near);
+                assert_eq!(
+                    (c.least, c.planar),
+                    (fresh.least, fresh.planar),
+                    "step {step}"
+                );
+            }
+            // The next frame adds points to part of the corridor only.
+            let more: Vec<Point3<f64>> = corridor(10 + step)
+                .into_iter()
+                .filter(|p| p.x < 5.0 + 3.0 * step as f64)
+                .collect();
+            map.update(&more, &Isometry3::identity());
+        }
+        assert!(cache.len() > 100);
     }
 }

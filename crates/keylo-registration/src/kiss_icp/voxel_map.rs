@@ -14,7 +14,7 @@ use crate::voxel::{voxel_of, Voxel, VoxelMap};
 
 /// Offsets of the 27 voxels around (and including) a query voxel, in upstream's order
 /// (centre first), so that ties between equally near points resolve as upstream resolves them.
-const NEIGHBOURS: [Voxel; 27] = [
+pub(crate) const NEIGHBOURS: [Voxel; 27] = [
     [0, 0, 0],
     [1, 0, 0],
     [-1, 0, 0],
@@ -45,6 +45,26 @@ const NEIGHBOURS: [Voxel; 27] = [
 ];
 
 /// The points of one voxel and the last update that touched it.
+/// Distances from a point to the low and high faces of its voxel, per axis.
+struct Faces {
+    below: [f64; 3],
+    above: [f64; 3],
+}
+
+/// The squared distance from the point of `f` to the voxel at offset `d` from its own.
+#[inline]
+fn gap2(d: &Voxel, f: &Faces) -> f64 {
+    let mut g = 0.0;
+    for k in 0..3 {
+        g += match d[k] {
+            1 => f.above[k] * f.above[k],
+            -1 => f.below[k] * f.below[k],
+            _ => 0.0,
+        };
+    }
+    g
+}
+
 #[derive(Debug, Clone)]
 struct Block {
     points: Vec<Point3<f64>>,
@@ -70,6 +90,9 @@ pub struct VoxelHashMap {
     updates: u64,
     len: usize,
     map: VoxelMap<Block>,
+    /// Voxels whose points the last [`VoxelHashMap::update`] changed (added to, created,
+    /// removed), possibly repeated.
+    changed: Vec<Voxel>,
 }
 
 impl VoxelHashMap {
@@ -83,7 +106,19 @@ impl VoxelHashMap {
             updates: 0,
             len: 0,
             map: VoxelMap::default(),
+            changed: Vec::new(),
         }
+    }
+
+    /// How many times [`VoxelHashMap::update`] has run: the map's version.
+    pub fn updates(&self) -> u64 {
+        self.updates
+    }
+
+    /// The voxels whose points the last update changed (a voxel not listed holds the same
+    /// points, in the same order, as before it); possibly repeated.
+    pub fn changed_in_last_update(&self) -> &[Voxel] {
+        &self.changed
     }
 
     /// The same map with recency bounds.
@@ -121,27 +156,11 @@ impl VoxelHashMap {
         query: &Point3<f64>,
         max_distance: f64,
     ) -> Option<(Point3<f64>, f64)> {
-        let v = voxel_of(query, self.voxel_size);
-        // Distance from the query to the low and high faces of its voxel, per axis.
-        let mut below = [0.0; 3];
-        let mut above = [0.0; 3];
-        for k in 0..3 {
-            let low = f64::from(v[k]) * self.voxel_size;
-            below[k] = query[k] - low;
-            above[k] = low + self.voxel_size - query[k];
-        }
+        let (v, faces) = self.faces(query);
         let mut best: Option<Point3<f64>> = None;
         let mut best_d2 = max_distance * max_distance;
         for d in NEIGHBOURS {
-            let mut gap2 = 0.0;
-            for k in 0..3 {
-                gap2 += match d[k] {
-                    1 => above[k] * above[k],
-                    -1 => below[k] * below[k],
-                    _ => 0.0,
-                };
-            }
-            if gap2 >= best_d2 {
+            if gap2(&d, &faces) >= best_d2 {
                 continue;
             }
             let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
@@ -163,12 +182,31 @@ impl VoxelHashMap {
         self.voxel_size
     }
 
-    /// Appends to `out` the map points closer than `radius` (at most one voxel edge) to
-    /// `query`, in the 27 voxels' order.
-    pub fn points_within(&self, query: &Point3<f64>, radius: f64, out: &mut Vec<Point3<f64>>) {
+    /// The voxel of `query` and its distances to the voxel's low and high faces, per axis.
+    #[inline]
+    fn faces(&self, query: &Point3<f64>) -> (Voxel, Faces) {
         let v = voxel_of(query, self.voxel_size);
+        let mut below = [0.0; 3];
+        let mut above = [0.0; 3];
+        for k in 0..3 {
+            let low = f64::from(v[k]) * self.voxel_size;
+            below[k] = query[k] - low;
+            above[k] = low + self.voxel_size - query[k];
+        }
+        (v, Faces { below, above })
+    }
+
+    /// Appends to `out` the map points closer than `radius` (at most one voxel edge) to
+    /// `query`, in the 27 voxels' order. Voxels farther than `radius` (with a margin far
+    /// above rounding) are not looked up: they hold no such point.
+    pub fn points_within(&self, query: &Point3<f64>, radius: f64, out: &mut Vec<Point3<f64>>) {
+        let (v, faces) = self.faces(query);
         let r2 = radius * radius;
+        let skip = r2 * (1.0 + 1e-9);
         for d in NEIGHBOURS {
+            if gap2(&d, &faces) >= skip {
+                continue;
+            }
             let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
                 continue;
             };
@@ -190,6 +228,7 @@ impl VoxelHashMap {
     /// recency bounds.
     pub fn update(&mut self, points: &[Point3<f64>], pose: &Isometry3<f64>) {
         self.updates += 1;
+        self.changed.clear();
         let resolution2 = self.voxel_size * self.voxel_size / self.max_points_per_voxel as f64;
         for p in points {
             self.add_point(pose * p, resolution2);
@@ -216,6 +255,7 @@ impl VoxelHashMap {
         }
         block.points.push(point);
         self.len += 1;
+        self.changed.push(voxel);
     }
 
     /// Drops voxels far from `origin` (upstream) and, with `max_age`, voxels unseen too long.
@@ -223,7 +263,8 @@ impl VoxelHashMap {
         let max2 = self.max_distance * self.max_distance;
         let (now, max_age) = (self.updates, self.limits.max_age);
         let mut removed = 0;
-        self.map.retain(|_, block| {
+        let changed = &mut self.changed;
+        self.map.retain(|voxel, block| {
             let keep = block
                 .points
                 .first()
@@ -231,6 +272,7 @@ impl VoxelHashMap {
                 && (max_age == 0 || now - block.seen <= max_age);
             if !keep {
                 removed += block.points.len();
+                changed.push(*voxel);
             }
             keep
         });
@@ -257,6 +299,7 @@ impl VoxelHashMap {
             }
             self.map.remove(&voxel);
             self.len -= n;
+            self.changed.push(voxel);
         }
     }
 }
@@ -275,6 +318,36 @@ mod tests {
             })
             .map(|p| (p, (p - q).norm()))
             .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    #[test]
+    fn points_within_skips_only_voxels_without_such_points() {
+        let mut state = 11u64;
+        let mut rnd = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
+        };
+        let pts: Vec<_> = (0..4000)
+            .map(|_| Point3::new(rnd(), rnd(), rnd()))
+            .collect();
+        let mut map = VoxelHashMap::new(0.5, 100.0, 20);
+        map.update(&pts, &Isometry3::identity());
+        let mut out = Vec::new();
+        for _ in 0..1000 {
+            let q = Point3::new(rnd(), rnd(), rnd());
+            out.clear();
+            map.points_within(&q, 0.5, &mut out);
+            let v = voxel_of(&q, 0.5);
+            let mut all = Vec::new();
+            for d in NEIGHBOURS {
+                if let Some(b) = map.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) {
+                    all.extend(b.points.iter().filter(|p| (*p - q).norm_squared() < 0.25));
+                }
+            }
+            assert_eq!(out, all);
+        }
     }
 
     #[test]
