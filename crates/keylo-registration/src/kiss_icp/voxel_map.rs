@@ -55,8 +55,8 @@ struct Faces {
 #[inline]
 fn gap2(d: &Voxel, f: &Faces) -> f64 {
     let mut g = 0.0;
-    for k in 0..3 {
-        g += match d[k] {
+    for (k, step) in d.iter().enumerate() {
+        g += match step {
             1 => f.above[k] * f.above[k],
             -1 => f.below[k] * f.below[k],
             _ => 0.0,
