@@ -233,11 +233,11 @@ pub struct SweepOptions<'a> {
     /// Only the tasks of these [`task_id`]s (a shard's); `None`: every task.
     pub only: Option<&'a BTreeSet<String>>,
     /// Called with a task's id and its wall-clock seconds as it finishes.
-    pub timed: Option<&'a TaskTimer>,
+    pub timed: Option<&'a TaskTimer<'a>>,
 }
 
 /// Called with a finished task's id and its seconds.
-pub type TaskTimer = dyn Fn(&str, f64) + Sync;
+pub type TaskTimer<'a> = dyn Fn(&str, f64) + Sync + 'a;
 
 /// The name of the task of `detector`'s group in `cell`: `linear 1024x64 akaze`.
 pub fn task_id(cell: &Cell, detector: &str) -> String {
