@@ -155,6 +155,8 @@ pub fn align(
                 s.keypoint_gate,
                 &s.weak,
             )));
+            // Measured (issue 24): going on from the cloud-only pose instead saves ~1.4 of ~9.7
+            // iterations but ends the long hall 0.20 m off instead of 0.15 m.
             correction = Isometry3::identity();
             accumulated = Vector6::zeros();
             scratch.clear();
