@@ -5,15 +5,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{keylo, small_sim, stderr, stdout};
-
-fn config(rel: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../configs")
-        .join(rel)
-        .display()
-        .to_string()
-}
+use common::{config, keylo, small_sim, stderr, stdout};
 
 fn read_json(p: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()

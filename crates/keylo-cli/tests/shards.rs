@@ -6,16 +6,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{expect_failure, keylo, read_csv, small_sim, stderr};
+use common::{config, expect_failure, keylo, read_csv, small_sim, stderr};
 use serde_json::Value;
-
-fn config(rel: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../configs")
-        .join(rel)
-        .display()
-        .to_string()
-}
 
 fn read_json(p: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
@@ -39,6 +31,13 @@ fn strings(v: &[&str]) -> Vec<String> {
 
 fn path(p: &Path) -> String {
     p.display().to_string()
+}
+
+/// `study` followed by `extra`.
+fn extended(study: &[String], extra: &[&str]) -> Vec<String> {
+    let mut a = study.to_vec();
+    a.extend(strings(extra));
+    a
 }
 
 /// `v` without the keys that time or resources decide.
@@ -67,11 +66,7 @@ fn compare_shards_merge_into_the_tables_of_one_process_and_bad_sets_are_named() 
         "--no-plots",
         "-q",
     ]);
-    let with = |extra: &[&str]| {
-        let mut a = study.clone();
-        a.extend(strings(extra));
-        a
-    };
+    let with = |extra: &[&str]| extended(&study, extra);
     run_ok(&with(&["--out", "single", "--jobs", "2"]), tmp.path());
     let shards: Vec<PathBuf> = (0..3).map(|i| tmp.path().join(format!("s{i}"))).collect();
     let mut items = 0;
@@ -245,11 +240,7 @@ fn keypoint_eval_shards_merge_into_the_rows_of_one_process() {
         "--no-plots",
         "-q",
     ]);
-    let with = |extra: &[&str]| {
-        let mut a = study.clone();
-        a.extend(strings(extra));
-        a
-    };
+    let with = |extra: &[&str]| extended(&study, extra);
     run_ok(&with(&["--out", "single"]), tmp.path());
     for i in 0..2 {
         run_ok(
@@ -343,11 +334,7 @@ fn keypoint_sweep_shards_merge_into_the_results_of_one_process() {
         "--no-plots",
         "-q",
     ]);
-    let with = |extra: &[&str]| {
-        let mut a = study.clone();
-        a.extend(strings(extra));
-        a
-    };
+    let with = |extra: &[&str]| extended(&study, extra);
     run_ok(&with(&["--out", "single"]), tmp.path());
     for i in 0..3 {
         run_ok(

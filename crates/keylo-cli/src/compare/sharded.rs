@@ -132,17 +132,7 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
     }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    let shards: Vec<Value> = joined
-        .shards
-        .iter()
-        .map(|(d, s)| json!({"dir": d.display().to_string(), "seconds": s}))
-        .collect();
-    let summed: f64 = joined.shards.iter().map(|(_, s)| s).sum();
-    let merged = json!({"study": joined.study, "runs": plans.len(), "shards": shards,
-                        "shard_seconds_sum": summed});
-    let path = args.out.join("merged.json");
-    crate::atomic::write(&path, serde_json::to_string_pretty(&merged)?)
-        .map_err(|e| ShardError::io(&path, e))?;
+    joined.write_note(&args.out)?;
     if !quiet {
         eprintln!(
             "keylo compare merge: {} runs of study {} from {} shards",

@@ -209,7 +209,7 @@ pub fn eval_merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let seconds: f64 = joined.shards.iter().map(|(_, s)| s).sum();
-    write_merged_note(&args.out, &joined)?;
+    joined.write_note(&args.out)?;
     write_report(
         &args.out,
         &EvalReport {
@@ -226,22 +226,6 @@ pub fn eval_merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
         args.no_plots,
         quiet,
     )
-}
-
-/// merged.json: the study, its shards and their seconds.
-fn write_merged_note(out: &Path, joined: &merge::Joined) -> Result<()> {
-    let shards: Vec<Value> = joined
-        .shards
-        .iter()
-        .map(|(d, s)| json!({"dir": d.display().to_string(), "seconds": s}))
-        .collect();
-    let summed: f64 = joined.shards.iter().map(|(_, s)| s).sum();
-    let note = json!({"study": joined.study, "items": joined.items.len(), "shards": shards,
-                      "shard_seconds_sum": summed});
-    let path = out.join("merged.json");
-    crate::atomic::write(&path, serde_json::to_string_pretty(&note)?)
-        .map_err(|e| ShardError::io(&path, e))?;
-    Ok(())
 }
 
 /// `keylo keypoints sweep --shard I/N`.
@@ -383,7 +367,7 @@ pub fn sweep_merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
     keylo::kpeval::sweep::sort_results(&mut result.results);
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    write_merged_note(&args.out, &joined)?;
+    joined.write_note(&args.out)?;
     super::sweep::write_report(
         &args.out,
         &super::sweep::SweepReport {

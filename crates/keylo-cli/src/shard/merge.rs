@@ -21,6 +21,23 @@ pub struct Joined {
     pub study: String,
 }
 
+impl Joined {
+    /// `out/merged.json`: the study, its items, each shard's folder and seconds, their sum.
+    pub fn write_note(&self, out: &Path) -> Result<(), ShardError> {
+        let shards: Vec<Value> = self
+            .shards
+            .iter()
+            .map(|(d, s)| serde_json::json!({"dir": d.display().to_string(), "seconds": s}))
+            .collect();
+        let summed: f64 = self.shards.iter().map(|(_, s)| s).sum();
+        let note = serde_json::json!({"study": self.study, "items": self.items.len(),
+                                      "shards": shards, "shard_seconds_sum": summed});
+        let path = out.join("merged.json");
+        let text = serde_json::to_string_pretty(&note).unwrap_or_default();
+        crate::atomic::write(&path, text).map_err(|e| ShardError::io(path, e))
+    }
+}
+
 /// Reads the manifests of `dirs` and checks that they are the shards of one `command` study,
 /// all N of them, complete, every item done exactly once; an error names the shard and item.
 pub fn join(command: &str, dirs: &[PathBuf]) -> Result<Joined, ShardError> {

@@ -79,3 +79,13 @@ pub fn read_csv(p: &Path) -> Vec<HashMap<String, String>> {
         })
         .collect()
 }
+
+/// The path of `configs/<rel>` in the repository.
+#[allow(dead_code)]
+pub fn config(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../configs")
+        .join(rel)
+        .display()
+        .to_string()
+}
