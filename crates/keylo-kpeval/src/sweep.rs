@@ -241,12 +241,16 @@ pub type TaskTimer<'a> = dyn Fn(&str, f64) + Sync + 'a;
 
 /// The name of the task of `detector`'s group in `cell`: `linear 1024x64 akaze`.
 pub fn task_id(cell: &Cell, detector: &str) -> String {
-    format!(
-        "{} {}x{} {detector}",
-        interpolation_name(cell.interpolation),
-        cell.width,
-        cell.height
+    task_name(
+        &interpolation_name(cell.interpolation),
+        (cell.width, cell.height),
+        detector,
     )
+}
+
+/// [`task_id`] from an interpolation's name (as [`CellResult`] holds it).
+pub fn task_name(interpolation: &str, (width, height): (usize, usize), detector: &str) -> String {
+    format!("{interpolation} {width}x{height} {detector}")
 }
 
 /// The combinations of each detector group (groups in first-seen order) and the

@@ -12,7 +12,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use keylo::kpeval::items::{eval_items, evaluate_items, BLOCK};
 use keylo::kpeval::sweep::{
-    run_sweep, sweep_tasks, CellResult, SweepGrid, SweepOptions, SweepResult,
+    run_sweep, sweep_tasks, task_name, CellResult, SweepGrid, SweepOptions, SweepResult,
 };
 use keylo::kpeval::{EvalOptions, EvalSpec, Plane, Row};
 use keylo::BuildContext;
@@ -290,13 +290,8 @@ pub fn sweep_shard(
         .map(|c| (c.name.as_str(), c.detector.as_str()))
         .collect();
     let task_of = |r: &CellResult| {
-        format!(
-            "{} {}x{} {}",
-            r.interpolation,
-            r.width,
-            r.height,
-            detector.get(r.combo.as_str()).copied().unwrap_or("")
-        )
+        let group = detector.get(r.combo.as_str()).copied().unwrap_or("");
+        task_name(&r.interpolation, (r.width, r.height), group)
     };
     let mut cells: BTreeMap<String, Vec<&CellResult>> = BTreeMap::new();
     for r in &result.results {

@@ -41,29 +41,24 @@ pub fn plane_information(
     max_points: usize,
 ) -> PlaneInformation {
     let radius = PLANE_RADIUS_VOXELS * map.voxel_size();
-    let picked: Vec<Point3<f64>> = source
-        .iter()
-        .step_by(stride(source, max_points))
-        .copied()
-        .collect();
-    let partials: Vec<Sums> = picked
-        .par_chunks(CHUNK)
-        .map(|chunk| {
-            let mut near = Vec::new();
-            sums(chunk.iter(), pose, |world| {
-                let (q, _) = map.closest_neighbour_within(world, max_distance)?;
+    plane_information_with(source, map, pose, max_distance, max_points, |neighbours| {
+        neighbours
+            .par_iter()
+            .with_min_len(CHUNK)
+            .map_init(Vec::new, |near, q| {
+                let q = (*q)?;
                 near.clear();
-                map.points_within(&q, radius, &mut near);
-                plane_normal(&near)
+                map.points_within(&q, radius, near);
+                plane_normal(near)
             })
-        })
-        .collect();
-    partials.iter().fold(Sums::default(), Sums::add).finish()
+            .collect()
+    })
 }
 
-/// [`plane_information`] with the planar normal of each picked point's nearest map point given
-/// by `planar(q)` (`None`: no neighbour, or not planar) instead of computed: the same sums, in
-/// the same order, so the same result when `planar` gives what [`plane_normal`] would.
+/// [`plane_information`] with the planar normals of the picked points' nearest map points
+/// given by `planar(neighbours)` (one per neighbour, in order; `None`: no neighbour, or not
+/// planar): [`plane_information`] computes them, the hybrid registrar takes them from its
+/// cache; the sums are the same, in the same order.
 pub(crate) fn plane_information_with(
     source: &[Point3<f64>],
     map: &VoxelHashMap,
