@@ -116,23 +116,17 @@ impl Hybrid {
     /// The degeneracy report of the aligned cloud (`KissIcp::degeneracy`'s, with the normals
     /// of this frame's cache).
     fn degeneracy(&mut self, prepared: &Prepared, pose: &Isometry3<f64>) -> Option<Degeneracy> {
-        let c = &self.config.icp.degeneracy;
-        if !c.analyse || self.icp.map().is_empty() || prepared.source.is_empty() {
-            return None;
-        }
-        let info = plane_terms::plane_information_cached(
-            &prepared.source,
-            self.icp.map(),
-            pose,
-            (prepared.settings.max_distance, c.max_points),
-            &mut self.normals,
-        );
-        Some(degeneracy::analyse(
-            &info.matrix,
-            info.residuals,
-            info.rms_range,
-            c.weak_ratio,
-        ))
+        let normals = &mut self.normals;
+        self.icp
+            .degeneracy_with(&prepared.source, |map, max_points| {
+                plane_terms::plane_information_cached(
+                    &prepared.source,
+                    map,
+                    pose,
+                    (prepared.settings.max_distance, max_points),
+                    normals,
+                )
+            })
     }
 
     fn register_points(

@@ -362,12 +362,23 @@ impl KissIcp {
         pose: &Isometry3<f64>,
         max_distance: f64,
     ) -> Option<Degeneracy> {
+        self.degeneracy_with(source, |map, max_points| {
+            degeneracy::plane_information(source, map, pose, max_distance, max_points)
+        })
+    }
+
+    /// The degeneracy report (when `[registrar.degeneracy] analyse` and there is a map and a
+    /// cloud) from the information `info(map, max_points)` gives.
+    pub(crate) fn degeneracy_with(
+        &self,
+        source: &[Point3<f64>],
+        info: impl FnOnce(&VoxelHashMap, usize) -> degeneracy::PlaneInformation,
+    ) -> Option<Degeneracy> {
         let c = &self.config.degeneracy;
         if !c.analyse || self.map.is_empty() || source.is_empty() {
             return None;
         }
-        let info =
-            degeneracy::plane_information(source, &self.map, pose, max_distance, c.max_points);
+        let info = info(&self.map, c.max_points);
         Some(degeneracy::analyse(
             &info.matrix,
             info.residuals,
