@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# Sets the machine up (scripts/setup.sh) and runs every test of the workspace.
+# Sets the machine up (scripts/setup.sh, and Chromium for the report's browser test) and runs
+# every test of the workspace.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$ROOT/scripts/setup.sh"
+# Headless Chromium for the test that opens `keylo report`'s page (docs/report.md).
+bash "$ROOT/scripts/setup-browser.sh"
 cd "$ROOT"
 cargo test --workspace --locked
 

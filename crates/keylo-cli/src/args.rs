@@ -27,12 +27,16 @@ pub enum Command {
     Sim(SimArgs),
     /// ATE/RPE of an estimated trajectory against a reference (TUM or KITTI files).
     Eval(EvalArgs),
-    /// Show what a data path holds; with --image N, write frame N's channel images as PNG.
+    /// Show what a data path holds; with --image N, write frame N's channel images as PNG
+    /// (with --config, its keypoints, registered pixels and a top view).
     Info(InfoArgs),
     /// Write the frames of any source as KITTI .bin, PLY, PCD or a keylo frame folder.
     Convert(ConvertArgs),
     /// Run several configs (and a grid of overrides) on the same data; tables and plots.
     Compare(CompareArgs),
+    /// One self-contained report.html of a run or compare folder: tables, plots, pictures
+    /// and 3-D views of the map, trajectories and points (opens offline).
+    Report(ReportArgs),
     /// Inspect configs and the registered backends.
     #[command(subcommand)]
     Config(ConfigCommand),
@@ -59,6 +63,8 @@ pub struct RunArgs {
     /// Ground-truth trajectory (TUM or KITTI) for accuracy figures.
     #[arg(long)]
     pub gt: Option<PathBuf>,
+    #[command(flatten)]
+    pub reference: crate::reference_args::ReferenceArgs,
     /// Output directory (default: `[output] dir`, else runs/<timestamp>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -75,6 +81,12 @@ pub struct RunArgs {
     /// counts the frames released late (odometry did not keep up).
     #[arg(long, value_name = "SPEED", num_args = 0..=1, default_missing_value = "1")]
     pub realtime: Option<f64>,
+    /// Pictures of frames 0, N, 2N, … in OUT/images/: each detector image with its
+    /// keypoints and the pixels whose points were registered, and a top view of the raw and
+    /// registered points; the first pictured frame also as PLY clouds (`keylo report`
+    /// shows them).
+    #[arg(long, value_name = "EVERY_N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub images: Option<u64>,
 }
 
 #[derive(Debug, Args)]
@@ -99,6 +111,8 @@ pub struct CompareArgs {
     /// Ground truth (TUM or KITTI) for a single --data; default: gt.tum beside each data.
     #[arg(long)]
     pub gt: Option<PathBuf>,
+    #[command(flatten)]
+    pub reference: crate::reference_args::ReferenceArgs,
     /// Output folder: compare.md/.csv/.json, plots/, runs/<data>/<variant>/.
     #[arg(long, default_value = "compare")]
     pub out: PathBuf,
@@ -216,6 +230,8 @@ pub struct EvalArgs {
     /// Reference trajectory (TUM or KITTI).
     #[arg(long)]
     pub gt: PathBuf,
+    #[command(flatten)]
+    pub reference: crate::reference_args::ReferenceArgs,
     /// Also print the result as JSON.
     #[arg(long)]
     pub json: bool,
@@ -274,6 +290,11 @@ pub struct InfoArgs {
     /// Folder for the PNG images of --image.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// With --image: run this pipeline config's stages on frame N and draw, as `keylo run
+    /// --images` does, each detector image with its keypoints and the pixels whose points
+    /// are registered, and a top view of the raw and registered points.
+    #[arg(long, requires = "image")]
+    pub config: Option<PathBuf>,
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
@@ -306,4 +327,20 @@ pub struct ConvertArgs {
     /// KITTI .bin takes exactly one (default signal).
     #[arg(long, value_delimiter = ',')]
     pub channels: Vec<String>,
+}
+
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// A run folder (`keylo run --out DIR`) or a compare folder (`keylo compare --out DIR`).
+    pub dir: PathBuf,
+    /// The page to write (default: DIR/report.html).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Points per 3-D layer at most: larger clouds are thinned (one point in k) and the page
+    /// says so.
+    #[arg(long, default_value_t = 150_000, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    pub max_points: usize,
+    /// Pictured frames (`keylo run --images`) shown at most, spread over the run.
+    #[arg(long, default_value_t = 8, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    pub max_pictures: usize,
 }

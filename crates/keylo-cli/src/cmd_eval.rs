@@ -4,18 +4,18 @@ use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
 use keylo::eval::associate::{associate_labeled, AssociateOptions};
+use keylo::eval::coverage::{coverage_of, Coverage};
 use keylo::eval::rpe::{rpe, Delta, RpeOptions};
 use keylo::eval::{evaluate, EvalOptions};
 
 use crate::args::{DeltaUnit, EvalArgs};
-use crate::trajectories;
+use crate::{reference_args, trajectories};
 
 pub fn run(args: EvalArgs) -> Result<ExitCode> {
     let delta = parse_delta(&args)?;
     let mut est = trajectories::Labelled::read(&args.est)
         .with_context(|| format!("--est {}", args.est.display()))?;
-    let mut gt = trajectories::Labelled::read(&args.gt)
-        .with_context(|| format!("--gt {}", args.gt.display()))?;
+    let mut gt = args.reference.read(&args.gt)?;
     trajectories::reconcile(&mut est, &mut gt)?;
     let (est, gt) = (est.trajectory, gt.trajectory);
     let opts = EvalOptions {
@@ -23,12 +23,19 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
         estimate_label: args.est.display().to_string(),
         ..EvalOptions::default()
     };
+    let label = args.reference.label(&args.gt);
+    let coverage = association(&opts, &est, &gt);
+    if coverage.is_low() {
+        let warning = reference_args::warning(&coverage, &label, args.reference.stamp_map());
+        eprintln!("warning: {warning}");
+    }
     let acc = evaluate(&est, &gt, &opts)?;
     println!("{} vs {}", args.est.display(), args.gt.display());
     println!(
         "  associated poses             {:>12}",
         acc.associated_poses
     );
+    print_coverage(&coverage);
     println!("  ATE RMSE (m)                 {:>12.4}", acc.ate_rmse_m);
     println!("  ATE mean (m)                 {:>12.4}", acc.ate_mean_m);
     println!(
@@ -53,9 +60,52 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
         print_delta_rpe(&opts, delta, &est, &gt)?;
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&acc)?);
+        print_json(&acc, label, &coverage)?;
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The accuracy as JSON, with the reference's label and the association figures added.
+fn print_json(acc: &keylo::eval::Accuracy, label: String, coverage: &Coverage) -> Result<()> {
+    let mut doc = serde_json::to_value(acc)?;
+    if let Some(map) = doc.as_object_mut() {
+        map.insert("reference_label".into(), label.into());
+        map.insert("association".into(), serde_json::to_value(coverage)?);
+    }
+    println!("{}", serde_json::to_string_pretty(&doc)?);
+    Ok(())
+}
+
+/// How many estimated poses associate with the reference (as [`evaluate`] pairs them).
+fn association(opts: &EvalOptions, est: &keylo::Trajectory, gt: &keylo::Trajectory) -> Coverage {
+    let pairs = associate_labeled(
+        gt,
+        &opts.reference_label,
+        est,
+        &opts.estimate_label,
+        &opts.associate,
+    )
+    .ok();
+    coverage_of(est, gt, pairs.as_ref(), opts.associate.max_diff)
+}
+
+/// The association figures; the two time ranges too when fewer than 90 % associate.
+fn print_coverage(c: &Coverage) {
+    println!("  associated / estimated       {:>12}", c.ratio());
+    if !c.is_low() {
+        return;
+    }
+    let range =
+        |r: Option<keylo::eval::coverage::TimeRange>| r.map_or("none".into(), |r| r.to_string());
+    println!("    (fewer than 90 %: see the warning on stderr)");
+    println!(
+        "  estimate times (s)           {}",
+        range(c.estimate_range_s)
+    );
+    println!(
+        "  reference times (s)          {}",
+        range(c.reference_range_s)
+    );
 }
 
 /// Checks `--delta` before any work is done.

@@ -74,6 +74,10 @@ pub fn run(args: InfoArgs) -> Result<ExitCode> {
         description: source.info().description,
         ..Info::default()
     };
+    let mut pictures = match &args.config {
+        Some(config) => Some(crate::overlay::Single::build(config, &args.data)?),
+        None => None,
+    };
     let (mut first, mut last, mut valid) = (None, None, 0usize);
     let mut has_data = [false; 4];
     while let Some(frame) = source.next_frame() {
@@ -86,7 +90,10 @@ pub fn run(args: InfoArgs) -> Result<ExitCode> {
         };
         if args.image == Some(info.frames) {
             if let Some(out) = &args.out {
-                info.images_written = write_images(out, &frame)?;
+                info.images_written = match pictures.as_mut() {
+                    Some(p) => p.write(out, &frame)?,
+                    None => write_images(out, &frame)?,
+                };
             }
         }
         first.get_or_insert(frame.timestamp);

@@ -9,12 +9,14 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use keylo::config::{OnBadFrame, PipelineConfig};
 use keylo::{
-    CoreError, FrameResult, ImageSource, LidarFrame, Paced, Pipeline, Prefetched, Trajectory,
+    CoreError, FrameFeatures, FrameResult, ImageSource, LidarFrame, Paced, Pipeline, Prefetched,
+    Trajectory,
 };
 
 use crate::args::RunArgs;
 use crate::degeneracy_out::{self, DegeneracyRow};
 use crate::journal::Journal;
+use crate::overlay::Pictures;
 use crate::report::{self, Failure, Summary, Totals};
 use crate::{configs, resources, trajectories, EXIT_FRAME_FAILED, EXIT_INTERRUPTED};
 
@@ -29,10 +31,16 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     )?;
     // A ground-truth file named by the user must be readable before any work starts.
     let gt_given = match ground_truth_file(&args, &config) {
-        Some(path) => Some(
-            trajectories::Labelled::read(&path)
-                .with_context(|| format!("ground truth {}", path.display()))?,
-        ),
+        Some(path) => {
+            let mut gt = args
+                .reference
+                .read(&path)
+                .with_context(|| format!("ground truth {}", path.display()))?;
+            if let Some(label) = &args.reference.gt_label {
+                gt.label.clone_from(label);
+            }
+            Some(gt)
+        }
         None => None,
     };
     let out = output_dir(&args, &config)?;
@@ -63,11 +71,17 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let start = Instant::now();
     let mut outcome = RunState::default();
     let mut journal = Journal::create(&out, &config.output)?;
+    let mut pictures = args
+        .images
+        .map(|every| Pictures::new(every, out.join("images")));
     process_all(
         &mut pipeline,
         &config,
         &progress,
-        &mut journal,
+        &mut Outputs {
+            journal: &mut journal,
+            pictures: pictures.as_mut(),
+        },
         &mut outcome,
     );
     progress.finish_and_clear();
@@ -95,6 +109,11 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     };
     outcome.totals.fill(&mut summary);
     summary.degeneracy = degeneracy_out::summarise(&outcome.degeneracy);
+    // The options map the clock of a reference file given to the run, not a source's own.
+    let map = match &gt_given {
+        Some(_) => args.reference.stamp_map(),
+        None => keylo::eval::stamp_map::StampMap::default(),
+    };
     let gt = gt_given.or_else(|| {
         let t = pipeline.source.ground_truth()?;
         Some(trajectories::Labelled::stamped(
@@ -102,7 +121,8 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             "the source's ground truth",
         ))
     });
-    add_accuracy(&mut summary, &outcome.trajectory, gt);
+    add_accuracy(&mut summary, &outcome.trajectory, gt, &out, map);
+    write_map(&out, &pipeline.odometry)?;
     // summary.json comes last: `keylo compare` takes it as the mark of a finished run.
     degeneracy_out::write(&out, &outcome.degeneracy)?;
     report::write_summary(&out, &summary)?;
@@ -139,6 +159,25 @@ struct RunState {
     degeneracy: Vec<DegeneracyRow>,
 }
 
+/// Where each frame's results go besides the trajectory.
+struct Outputs<'a> {
+    journal: &'a mut Journal,
+    pictures: Option<&'a mut Pictures>,
+}
+
+/// The registrar's final local map as `map.ply` (world frame), when it has one.
+fn write_map(out: &std::path::Path, odometry: &keylo::Odometry) -> Result<()> {
+    let map = odometry.local_map();
+    if map.is_empty() {
+        return Ok(());
+    }
+    crate::cloud_ply::write(
+        &out.join("map.ply"),
+        &map,
+        "keylo run: the registrar's local map after the last frame, world frame",
+    )
+}
+
 /// Set by Ctrl-C or SIGTERM: the run stops after the current frame and writes what it has.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
@@ -146,7 +185,7 @@ fn process_all(
     pipeline: &mut Pipeline,
     config: &PipelineConfig,
     progress: &ProgressBar,
-    journal: &mut Journal,
+    outputs: &mut Outputs,
     st: &mut RunState,
 ) {
     if let Err(e) = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst)) {
@@ -175,13 +214,17 @@ fn process_all(
             }
         };
         next = frame.index + 1;
+        let pictured = outputs
+            .pictures
+            .as_ref()
+            .is_some_and(|p| p.wants(frame.index));
         let t = Instant::now();
-        let result = process_guarded(pipeline, &frame);
+        let result = process_guarded(pipeline, &frame, pictured);
         let seconds = t.elapsed().as_secs_f64();
         st.totals.odometry_seconds += seconds;
         progress.inc(1);
         match result {
-            Ok(r) => {
+            Ok((r, features)) => {
                 if r.registered_points == 0 {
                     tracing::warn!(
                         "{}: no point to register ({} points in the cloud, none within the \
@@ -216,7 +259,15 @@ fn process_all(
                         degeneracy: d,
                     });
                 }
-                if let Err(e) = journal.record(r.stamp, &r.pose, &row) {
+                let recorded =
+                    outputs
+                        .journal
+                        .record(r.stamp, &r.pose, &row)
+                        .and_then(|()| match (outputs.pictures.as_deref_mut(), &features) {
+                            (Some(p), Some(f)) => p.record(&pipeline.odometry, &frame, f),
+                            _ => Ok(()),
+                        });
+                if let Err(e) = recorded {
                     st.failure = Some(Failure {
                         frame: frame.index,
                         error: crate::error_chain(&e),
@@ -253,10 +304,22 @@ fn frame_name(pipeline: &Pipeline, index: u64) -> String {
     }
 }
 
-/// Runs one frame; a panic in a stage (a bug, in keylo or a plugin) becomes this frame's
-/// failure, so the frames done so far are still written and the exit status says so.
-fn process_guarded(pipeline: &mut Pipeline, frame: &LidarFrame) -> Result<FrameResult, CoreError> {
-    let run = std::panic::AssertUnwindSafe(|| pipeline.odometry.process(frame));
+/// Runs one frame (keeping its features when `features`); a panic in a stage (a bug, in
+/// keylo or a plugin) becomes this frame's failure, so the frames done so far are still
+/// written and the exit status says so.
+fn process_guarded(
+    pipeline: &mut Pipeline,
+    frame: &LidarFrame,
+    features: bool,
+) -> Result<(FrameResult, Option<FrameFeatures>), CoreError> {
+    let run = std::panic::AssertUnwindSafe(|| {
+        if features {
+            let (r, f) = pipeline.odometry.process_with_features(frame)?;
+            Ok((r, Some(f)))
+        } else {
+            pipeline.odometry.process(frame).map(|r| (r, None))
+        }
+    });
     std::panic::catch_unwind(run).unwrap_or_else(|payload| {
         let what = payload
             .downcast_ref::<&str>()
@@ -327,10 +390,18 @@ fn ground_truth_file(args: &RunArgs, config: &PipelineConfig) -> Option<PathBuf>
     Some(data.join("gt.tum")).filter(|p| p.is_file())
 }
 
-fn add_accuracy(summary: &mut Summary, est: &Trajectory, gt: Option<trajectories::Labelled>) {
+/// Accuracy against `gt` into the summary, and the aligned reference into `out`.
+fn add_accuracy(
+    summary: &mut Summary,
+    est: &Trajectory,
+    gt: Option<trajectories::Labelled>,
+    out: &std::path::Path,
+    map: keylo::eval::stamp_map::StampMap,
+) {
     let Some(mut gt) = gt else { return };
     let mut ours = trajectories::Labelled::stamped(est.clone(), "the estimated trajectory");
     let result = trajectories::reconcile(&mut ours, &mut gt).and_then(|()| {
+        warn_poor_association(summary, &ours.trajectory, &gt, map);
         let opts = keylo::eval::EvalOptions {
             reference_label: gt.label.clone(),
             estimate_label: ours.label.clone(),
@@ -344,12 +415,38 @@ fn add_accuracy(summary: &mut Summary, est: &Trajectory, gt: Option<trajectories
     });
     summary.ground_truth = Some(gt.label.clone());
     match result {
-        Ok(a) => summary.accuracy = Some(a),
+        Ok(a) => {
+            summary.accuracy = Some(a);
+            if let Err(e) = crate::reference_out::write(out, &ours.trajectory, &gt.trajectory) {
+                tracing::warn!("no {} for pictures: {e:#}", crate::reference_out::FILE);
+            }
+        }
         Err(e) => {
             // Shown even with -q: the user asked for accuracy and does not get it.
             tracing::error!("no accuracy figures: {e:#}");
             summary.accuracy_error = Some(format!("{e:#}"));
         }
+    }
+}
+
+/// Says so (stderr and `summary.json`) when fewer than 90 % of the estimated poses pair
+/// with the reference, with the likely cause and the options that undo it.
+fn warn_poor_association(
+    summary: &mut Summary,
+    est: &Trajectory,
+    gt: &trajectories::Labelled,
+    map: keylo::eval::stamp_map::StampMap,
+) {
+    use keylo::eval::associate::{associate, AssociateOptions};
+    let opts = AssociateOptions::default();
+    let pairs = associate(&gt.trajectory, est, &opts).ok();
+    let coverage =
+        keylo::eval::coverage::coverage_of(est, &gt.trajectory, pairs.as_ref(), opts.max_diff);
+    if coverage.is_low() {
+        let text = crate::reference_args::warning(&coverage, &gt.label, map);
+        // Shown even with -q, as a missing accuracy is: the figures would mislead.
+        eprintln!("warning: {text}");
+        summary.association_warning = Some(text);
     }
 }
 

@@ -2,6 +2,7 @@
 
 mod args;
 mod atomic;
+mod cloud_ply;
 mod cmd_config;
 mod cmd_convert;
 mod cmd_eval;
@@ -14,9 +15,13 @@ mod configs;
 mod degeneracy_out;
 mod journal;
 mod keypoints;
+mod overlay;
 mod plot_out;
 mod realism;
+mod reference_args;
+mod reference_out;
 mod report;
+mod report_page;
 mod resources;
 mod shard;
 mod trajectories;
@@ -63,6 +68,7 @@ fn main() -> ExitCode {
         Command::Config(a) => cmd_config::run(a),
         Command::Plugins(a) => cmd_plugins::run(a),
         Command::Compare(a) => compare::run(a, cli.threads, cli.quiet),
+        Command::Report(a) => report_page::run(a, cli.quiet),
         Command::Keypoints(a) => keypoints::run(a, cli.threads, cli.quiet),
     };
     match outcome {

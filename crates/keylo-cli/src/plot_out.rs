@@ -74,6 +74,18 @@ pub fn write<D: Draw>(
     Ok(vec![png, svg])
 }
 
+/// The figure as SVG text, for pages that inline it.
+pub fn svg_string<D: Draw>(size: (u32, u32), fig: &D) -> Result<String, String> {
+    register_font();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        fig.draw(&root)?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(svg)
+}
+
 fn encode_png(path: &Path, rgb: &[u8], size: (u32, u32)) -> Result<(), String> {
     let file = std::fs::File::create(path).map_err(|e| e.to_string())?;
     let mut enc = png::Encoder::new(std::io::BufWriter::new(file), size.0, size.1);

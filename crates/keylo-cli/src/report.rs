@@ -63,6 +63,10 @@ pub struct Summary {
     pub accuracy: Option<Accuracy>,
     /// Why accuracy is missing although ground truth was given.
     pub accuracy_error: Option<String>,
+    /// Fewer than 90 % of the estimated poses paired with the reference: the figures, the
+    /// likely cause and the options that undo it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub association_warning: Option<String>,
     /// The registrar's degeneracy analysis over the run (per frame in `degeneracy.csv`).
     pub degeneracy: Option<crate::degeneracy_out::DegeneracySummary>,
 }

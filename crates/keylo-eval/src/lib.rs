@@ -7,6 +7,8 @@
 //! * [`ape`]: absolute pose error (`evo_ape -a`), [`rpe`]: relative pose error (`evo_rpe`).
 //! * [`drift`]: KITTI-style drift over path segments.
 //! * [`divergence`]: whether a run diverged (`keylo compare`'s verdict).
+//! * [`coverage`]: how many estimated poses associated, and why so few when few did.
+//! * [`stamp_map`]: a reference's clock (scale, offset) mapped onto the estimate's.
 //! * [`evaluate`]: all of the above in one call, serialisable for `summary.json`.
 //!
 //! Parity with evo 1.38.1 is checked against committed fixtures in `tests/fixtures/evo/`.
@@ -17,12 +19,14 @@ pub mod align;
 pub mod align_roll;
 pub mod ape;
 pub mod associate;
+pub mod coverage;
 pub mod divergence;
 pub mod drift;
 mod error;
 mod evaluate;
 pub mod pose_error;
 pub mod rpe;
+pub mod stamp_map;
 pub mod stats;
 
 pub use error::EvalError;

@@ -21,6 +21,7 @@ mod error;
 mod frame_eval;
 pub mod items;
 mod params;
+pub mod pictures;
 mod plane;
 pub mod realism;
 mod record;

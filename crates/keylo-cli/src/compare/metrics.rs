@@ -11,6 +11,7 @@ use keylo::Trajectory;
 use serde::Serialize;
 use serde_json::Value;
 
+use super::association;
 use super::schedule::{Outcome, Planned};
 use crate::trajectories;
 
@@ -26,7 +27,10 @@ pub fn describe(c: &Criterion) -> String {
          pose is not finite; **failed** when `keylo run` stopped before the end of the \
          data (its figures cover the frames before the failure); accuracy of a diverged \
          or failed run is shown as N/A in the paper-shaped tables; APE is over the poses \
-         paired with ground truth within {} s (`--t-max-diff`, evo's `--t_max_diff`)",
+         paired with ground truth within {} s (`--t-max-diff`, evo's `--t_max_diff`); \
+         where fewer than 90 % of a run's poses pair, its reason and a warning under the \
+         tables say so, with the likely cause (`--gt-time-scale`, `--gt-time-offset` fix a \
+         reference on another clock)",
         c.max_ape_m, c.max_step_m, c.t_max_diff_s
     )
 }
@@ -72,6 +76,14 @@ pub struct Row {
     /// Odometry rate relative to the raw-cloud (`passthrough`) run of the same data and
     /// registrar kind, when the comparison has one.
     pub rate_vs_raw: Option<f64>,
+    /// Estimated poses paired with ground truth / estimated poses, e.g. `16/154`.
+    pub associated: Option<String>,
+    /// The ground truth's name (`--gt-label`, else its file name).
+    pub reference: Option<String>,
+    /// The association in full (JSON only): counts, both time ranges, the likely cause.
+    pub association: Option<keylo::eval::coverage::Coverage>,
+    /// The warning when fewer than 90 % of the poses were paired (JSON only).
+    pub association_warning: Option<String>,
 }
 
 /// Per-frame series of a run, for the plots.
@@ -98,6 +110,7 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
             .as_ref()
             .map_or("built-in default".into(), |p| p.display().to_string()),
         resumed: outcome.resumed,
+        reference: plan.gt_label.clone(),
         ..Row::default()
     };
     let mut series = Series::default();
@@ -108,15 +121,17 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
     }
     read_frames(&plan.dir.join("frames.csv"), &mut series);
     let mut est = trajectories::Labelled::read(&plan.dir.join("trajectory.tum")).ok();
+    let time = plan.gt_time.unwrap_or_default();
     let mut gt = plan
         .gt
         .as_ref()
-        .and_then(|p| trajectories::Labelled::read(p).ok());
+        .and_then(|p| crate::reference_args::read(p, time).ok());
     let mut ape = None;
     if let (Some(e), Some(g)) = (est.as_mut(), gt.as_mut()) {
         // A KITTI ground truth has no stamps: pair it one for one, as `keylo run` does.
         if trajectories::reconcile(e, g).is_ok() {
             let (e, g) = (&e.trajectory, &g.trajectory);
+            association::measure(plan, e, g, crit, &mut row);
             let aligned = aligned_ape(e, g, crit.t_max_diff_s).ok();
             if let Some((pairs, result)) = &aligned {
                 fill_ape(pairs, result, &mut row, &mut series);
@@ -160,8 +175,8 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
     } else {
         divergence(est.as_ref(), ape, crit, gt.is_some())
     };
+    row.reason = association::explain(&row, verdict, reason);
     row.verdict = verdict.into();
-    row.reason = reason;
     (row, series)
 }
 

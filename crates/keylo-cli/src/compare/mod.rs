@@ -8,12 +8,13 @@
 //! * [`tables`]: Markdown, CSV, JSON.
 //! * [`plots`]: PNG + SVG figures.
 
+mod association;
 mod budget;
 mod child;
 mod error;
 mod grid;
 mod metrics;
-mod plots;
+pub(crate) mod plots;
 mod schedule;
 mod sharded;
 mod tables;
@@ -122,6 +123,11 @@ fn report(
         .map(|(p, o)| metrics::collect(p, o, crit))
         .unzip();
     metrics::add_rate_ratios(&mut rows);
+    if !quiet {
+        for (data, text) in association::warnings(&rows) {
+            eprintln!("warning: {data}: {text}");
+        }
+    }
     let md = tables::markdown(&rows, crit);
     write(&out.join("compare.md"), &md)?;
     write(&out.join("compare.csv"), &tables::csv(&rows))?;
@@ -230,6 +236,11 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
                     configs::load(&mut registry, config.as_deref(), Some(data), None, &sets)
                         .with_context(|| format!("configuration {variant} on {data_label}"))?;
                 let id = format!("{data_label}/{}", slug(&variant));
+                let gt = args
+                    .gt
+                    .clone()
+                    .or_else(|| Some(data.join("gt.tum")).filter(|p| p.is_file()));
+                let time = args.reference.stamp_map();
                 plans.push(Planned {
                     dir: args.out.join("runs").join(&id),
                     id,
@@ -237,10 +248,9 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
                     variant: variant.clone(),
                     config: (*config).clone(),
                     data: data.clone(),
-                    gt: args
-                        .gt
-                        .clone()
-                        .or_else(|| Some(data.join("gt.tum")).filter(|p| p.is_file())),
+                    gt_time: (gt.is_some() && !time.is_identity()).then_some(time),
+                    gt_label: gt.as_deref().map(|p| args.reference.label(p)),
+                    gt,
                     sets: sets.clone(),
                     realtime: args.realtime,
                     cost: sharded::expected_cost(&loaded, data),
@@ -366,9 +376,10 @@ fn figures(data: &str, runs: &[(&Row, &Series)]) -> Vec<plots::Figure> {
             .collect()
     };
     let mut top = named(&|s| s.est_xy.clone());
-    if let Some((_, s)) = runs.iter().max_by_key(|(_, s)| s.gt_xy.len()) {
+    if let Some((r, s)) = runs.iter().max_by_key(|(_, s)| s.gt_xy.len()) {
         let gt = plots::Line {
-            name: "ground truth".into(),
+            // The reference's file name or --gt-label: it may not be ground truth at all.
+            name: r.reference.clone().unwrap_or_else(|| "reference".into()),
             points: s.gt_xy.clone(),
             reference: true,
         };

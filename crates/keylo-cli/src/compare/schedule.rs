@@ -22,6 +22,12 @@ pub struct Planned {
     pub config: Option<PathBuf>,
     pub data: PathBuf,
     pub gt: Option<PathBuf>,
+    /// `--gt-time-scale` / `--gt-time-offset` of the ground truth (`None`: its times as read).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gt_time: Option<keylo::eval::stamp_map::StampMap>,
+    /// The ground truth's name in tables and plots (`--gt-label`, else its file name).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gt_label: Option<String>,
     /// `--set` strings: the user's, then the grid point's.
     pub sets: Vec<String>,
     /// `--realtime` speed of the run (`None`: as fast as it goes).
@@ -65,6 +71,10 @@ fn plan_text(plan: &Planned) -> String {
     // Only a paced run records its speed, so the plans of earlier runs still match.
     if let (Some(speed), Some(map)) = (plan.realtime, v.as_object_mut()) {
         map.insert("realtime".into(), serde_json::json!(speed));
+    }
+    // Likewise a ground truth with a time map (it changes the run's accuracy figures).
+    if let (Some(time), Some(map)) = (plan.gt_time, v.as_object_mut()) {
+        map.insert("gt_time".into(), serde_json::json!(time));
     }
     serde_json::to_string_pretty(&v).unwrap_or_default()
 }
@@ -193,6 +203,10 @@ fn run_one(exe: &Path, plan: &Planned, opts: &Options) -> Result<Outcome, Compar
         .arg(&plan.dir);
     if let Some(gt) = &plan.gt {
         cmd.arg("--gt").arg(gt);
+    }
+    if let Some(time) = plan.gt_time {
+        cmd.arg(format!("--gt-time-scale={}", time.scale))
+            .arg(format!("--gt-time-offset={}", time.offset_s));
     }
     if let Some(t) = threads {
         cmd.arg("--threads").arg(t.to_string());

@@ -6,10 +6,11 @@ use std::fmt::Write as _;
 
 use serde_json::Value;
 
+use super::association;
 use super::metrics::{describe, Criterion, Row};
 
 /// Columns of the full table: (JSON/CSV field, Markdown header, decimals).
-const COLUMNS: [(&str, &str, usize); 24] = [
+const COLUMNS: [(&str, &str, usize); 26] = [
     ("data", "data", 0),
     ("variant", "variant", 0),
     ("config", "config", 0),
@@ -34,6 +35,8 @@ const COLUMNS: [(&str, &str, usize); 24] = [
     ("mean_registered_points", "registered/frame", 0),
     ("odometry_hz", "rate (Hz)", 1),
     ("rate_vs_raw", "rate / raw", 2),
+    ("associated", "associated", 0),
+    ("reference", "reference", 0),
 ];
 
 fn columns() -> impl Iterator<Item = &'static (&'static str, &'static str, usize)> {
@@ -79,6 +82,10 @@ pub fn json(rows: &[Row], crit: &Criterion) -> String {
                        "t_max_diff_s": crit.t_max_diff_s,
                        "text": describe(crit) },
         "runs": rows,
+        "warnings": association::warnings(rows)
+            .into_iter()
+            .map(|(data, text)| serde_json::json!({ "data": data, "text": text }))
+            .collect::<Vec<_>>(),
     });
     serde_json::to_string_pretty(&doc).unwrap_or_default()
 }
@@ -90,6 +97,7 @@ pub fn markdown(rows: &[Row], crit: &Criterion) -> String {
     let variants = unique(rows.iter().map(|r| r.variant.clone()));
     md.push_str("## Accuracy: translation error (mean/RMSE, m), rotation error (mean, deg)\n\n");
     md.push_str(&grid_table(rows, &variants, &data, accuracy_cell));
+    md.push_str(&association::markdown(rows));
     md.push_str("\n## Points per registered frame (mean, handed to the registrar)\n\n");
     md.push_str(&grid_table(rows, &variants, &data, |r| {
         r.mean_points.map_or("-".into(), |p| format!("{p:.0}"))
@@ -107,6 +115,7 @@ pub fn markdown(rows: &[Row], crit: &Criterion) -> String {
     }
     md.push_str("\n## Every run\n\n");
     md.push_str(&full_table(rows));
+    md.push_str(&association::markdown(rows));
     let _ = write!(md, "\nDivergence criterion: {}.\n", describe(crit));
     md.push_str(
         "Errors are after SE(3) Umeyama alignment of the positions (as `evo_ape -a`); on a \
@@ -127,11 +136,17 @@ fn unique(items: impl Iterator<Item = String>) -> Vec<String> {
 }
 
 fn accuracy_cell(r: &Row) -> String {
+    let poor = association::low(r).map(|c| format!("only {} poses associated", c.ratio()));
     if r.verdict != "ok" {
-        return format!("N/A ({})", r.verdict);
+        return match poor {
+            Some(p) => format!("N/A ({}; {p})", r.verdict),
+            None => format!("N/A ({})", r.verdict),
+        };
     }
-    match (r.trans_mean_m, r.trans_rmse_m, r.rot_mean_deg) {
-        (Some(m), Some(s), Some(d)) => format!("({m:.3}/{s:.3}, {d:.2})"),
+    match (r.trans_mean_m, r.trans_rmse_m, r.rot_mean_deg, poor) {
+        (Some(m), Some(s), Some(d), None) => format!("({m:.3}/{s:.3}, {d:.2})"),
+        (Some(m), Some(s), Some(d), Some(p)) => format!("({m:.3}/{s:.3}, {d:.2}) ({p})"),
+        (_, _, _, Some(p)) => format!("- ({p})"),
         _ => "- (no ground truth)".into(),
     }
 }

@@ -101,6 +101,21 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
         },
     )?;
     bar.finish_and_clear();
+    if let Some(every) = args.images {
+        let pictured = keylo::kpeval::pictures::detect_for_pictures(
+            &planes,
+            &combos,
+            &spec,
+            &registry,
+            &ctx,
+            every,
+            set.skips_unavailable(),
+        )?;
+        let n = super::pictures::write(out, &pictured)?;
+        if !quiet {
+            println!("pictures: {n} in {}", out.join("images").display());
+        }
+    }
     let labels: Vec<String> = planes.iter().map(|p| p.label.clone()).collect();
     write_report(
         out,

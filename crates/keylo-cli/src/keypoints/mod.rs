@@ -4,6 +4,7 @@
 
 pub(crate) mod eval;
 pub(crate) mod input;
+mod pictures;
 mod plots;
 mod reference;
 mod report;
@@ -122,6 +123,10 @@ pub struct EvalArgs {
     /// results against theirs image by image (images matched by the number in their names).
     #[arg(long, value_name = "DIR")]
     pub reference: Option<PathBuf>,
+    /// Draw each detector's keypoints (circles of their size, lines along their orientation)
+    /// on images 0, N, 2N, … as evaluated, into OUT/images/DETECTOR_NNNNN.png.
+    #[arg(long, value_name = "EVERY_N", conflicts_with = "shard", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    pub images: Option<usize>,
 }
 
 #[derive(Debug, Args)]

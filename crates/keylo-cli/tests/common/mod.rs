@@ -1,7 +1,7 @@
 //! Helpers for the CLI tests: run the real `keylo` binary.
 
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 pub fn keylo(args: &[&str], cwd: &Path) -> Output {
@@ -88,4 +88,37 @@ pub fn config(rel: &str) -> String {
         .join(rel)
         .display()
         .to_string()
+}
+
+/// The repository's root folder.
+#[allow(dead_code)]
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Compiles C (or C++, by the extension) `source` into the shared library `out` with
+/// `defines` (`-D` flags).
+#[allow(dead_code)]
+pub fn compile_plugin(source: &Path, out: &Path, defines: &[&str]) {
+    let cpp = source.extension().is_some_and(|e| e == "cpp");
+    let compiler = cc::Build::new()
+        .cargo_metadata(false)
+        .cpp(cpp)
+        .opt_level(2)
+        .debug(false)
+        .target(env!("KEYLO_TEST_TARGET"))
+        .host(env!("KEYLO_TEST_TARGET"))
+        .try_get_compiler()
+        .expect("a C compiler");
+    let mut cmd = compiler.to_command();
+    let std = if cpp { "-std=c++17" } else { "-std=c99" };
+    cmd.args(["-shared", "-fPIC", std, "-Wall", "-Werror"])
+        .arg("-I")
+        .arg(root().join("crates/keylo-plugin/include"))
+        .args(defines.iter().map(|d| format!("-D{d}")))
+        .arg(source)
+        .arg("-o")
+        .arg(out);
+    let o = cmd.output().expect("the C compiler runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }

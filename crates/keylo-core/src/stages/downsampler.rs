@@ -18,4 +18,11 @@ pub trait Downsampler: Send {
     fn needs_grid(&self) -> bool {
         true
     }
+
+    /// Row-major frame-grid pixels whose points the last [`Downsampler::downsample`] kept,
+    /// for pictures of what was selected (`keylo run --images`); `None` when the
+    /// downsampler does not select by pixel (voxel grids, random budgets, plugins).
+    fn selected_pixels(&self) -> Option<&[usize]> {
+        None
+    }
 }

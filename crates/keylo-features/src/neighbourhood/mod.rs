@@ -22,6 +22,9 @@ pub struct KeypointNeighbourhood {
     config: NeighbourhoodConfig,
     sizes: BTreeMap<String, usize>,
     matched: Option<MatchedFilter>,
+    /// The pixels the last frame's windows selected (all valid pixels after an
+    /// `on_too_few = "all-points"` fallback).
+    selected: Vec<usize>,
 }
 
 impl KeypointNeighbourhood {
@@ -51,6 +54,7 @@ impl KeypointNeighbourhood {
             config,
             sizes,
             matched,
+            selected: Vec::new(),
         })
     }
 }
@@ -73,11 +77,17 @@ impl Downsampler for KeypointNeighbourhood {
             .map_err(|e| e.in_stage("downsampler"))?;
         let mode = self.config.pixel_points;
         let selected = frame.cloud_of_selected(&pixels, mode);
+        self.selected = pixels;
         if selected.len() >= self.config.min_points {
             return Ok(selected);
         }
         match self.config.on_too_few {
-            TooFew::AllPoints => Ok(frame.cloud(mode)),
+            TooFew::AllPoints => {
+                self.selected = (0..frame.rows * frame.cols)
+                    .filter(|&i| frame.valid[i] && frame.range[i] > 0.0)
+                    .collect();
+                Ok(frame.cloud(mode))
+            }
             TooFew::Error => Err(CoreError::BadFrame {
                 frame: frame.index,
                 message: format!(
@@ -90,6 +100,10 @@ impl Downsampler for KeypointNeighbourhood {
                 ),
             }),
         }
+    }
+
+    fn selected_pixels(&self) -> Option<&[usize]> {
+        Some(&self.selected)
     }
 }
 

@@ -1,0 +1,52 @@
+//! `keylo report DIR`: one self-contained `report.html` of a run folder or a compare folder:
+//! tables, plots, pictures and interactive 3-D views (three.js, inlined), readable offline.
+
+mod compare_folder;
+mod html;
+mod markdown;
+mod page;
+mod run_folder;
+mod run_parts;
+mod run_plots;
+mod scene;
+
+use std::process::ExitCode;
+
+use anyhow::{bail, Context, Result};
+
+use crate::args::ReportArgs;
+use run_parts::Limits;
+
+pub fn run(args: ReportArgs, quiet: bool) -> Result<ExitCode> {
+    let dir = &args.dir;
+    let limits = Limits {
+        max_points: args.max_points,
+        max_pictures: args.max_pictures,
+    };
+    let page = if dir.join("summary.json").is_file() {
+        run_folder::page(dir, limits)?
+    } else if dir.join("compare.json").is_file() {
+        compare_folder::page(dir, limits)?
+    } else if !dir.is_dir() {
+        bail!("{}: no such folder", dir.display());
+    } else {
+        bail!(
+            "{}: neither a run folder (no summary.json: `keylo run --out DIR`) nor a compare \
+             folder (no compare.json: `keylo compare --out DIR`)",
+            dir.display()
+        );
+    };
+    let out = args.out.clone().unwrap_or_else(|| dir.join("report.html"));
+    let html = page.render();
+    crate::atomic::write(&out, &html).with_context(|| format!("writing {}", out.display()))?;
+    if !quiet {
+        println!(
+            "wrote {} ({:.1} MB, {} 3-D view(s), {} section(s)); open it in a browser",
+            out.display(),
+            html.len() as f64 / 1e6,
+            page.scenes.len(),
+            page.sections.len()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
