@@ -147,6 +147,10 @@ pub struct CompareArgs {
     /// `--jobs 1` (the default) or the runs perturb each other's figures.
     #[arg(long, value_name = "SPEED", num_args = 0..=1, default_missing_value = "1")]
     pub realtime: Option<f64>,
+    /// Pictures of frames 0, N, 2N, … of every run (`keylo run --images`), which
+    /// `keylo report` of the compare folder shows; they do not change any figure.
+    #[arg(long, value_name = "EVERY_N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub images: Option<u64>,
     /// Print the planned runs (folder and --set overrides) and stop.
     #[arg(long)]
     pub dry_run: bool,

@@ -18,6 +18,7 @@ use crate::degeneracy_out::{self, DegeneracyRow};
 use crate::journal::Journal;
 use crate::overlay::Pictures;
 use crate::report::{self, Failure, Summary, Totals};
+use crate::run_accuracy;
 use crate::{configs, resources, trajectories, EXIT_FRAME_FAILED, EXIT_INTERRUPTED};
 
 pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
@@ -30,19 +31,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         &args.sets,
     )?;
     // A ground-truth file named by the user must be readable before any work starts.
-    let gt_given = match ground_truth_file(&args, &config) {
-        Some(path) => {
-            let mut gt = args
-                .reference
-                .read(&path)
-                .with_context(|| format!("ground truth {}", path.display()))?;
-            if let Some(label) = &args.reference.gt_label {
-                gt.label.clone_from(label);
-            }
-            Some(gt)
-        }
-        None => None,
-    };
+    let gt_given = run_accuracy::reference_file(&args, &config)?;
     let out = output_dir(&args, &config)?;
     std::fs::write(
         out.join("config.toml"),
@@ -121,8 +110,11 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             "the source's ground truth",
         ))
     });
-    add_accuracy(&mut summary, &outcome.trajectory, gt, &out, map);
-    write_map(&out, &pipeline.odometry)?;
+    run_accuracy::add_accuracy(&mut summary, &outcome.trajectory, gt, &out, map);
+    // The map is for pictures: failing to write it must not lose the run's figures.
+    if let Err(e) = write_map(&out, &pipeline.odometry) {
+        tracing::warn!("no map.ply: {e:#}");
+    }
     // summary.json comes last: `keylo compare` takes it as the mark of a finished run.
     degeneracy_out::write(&out, &outcome.degeneracy)?;
     report::write_summary(&out, &summary)?;
@@ -372,82 +364,6 @@ fn timestamp_name(secs: u64) -> String {
         (rem / 60) % 60,
         rem % 60
     )
-}
-
-/// Ground-truth file: `--gt`, else `[output] gt`, else a `gt.tum` beside the data (`--data` or
-/// the source's `path`). A source with ground truth of its own (the simulator) needs none.
-fn ground_truth_file(args: &RunArgs, config: &PipelineConfig) -> Option<PathBuf> {
-    if let Some(gt) = &args.gt {
-        return Some(gt.clone());
-    }
-    if !config.output.gt.is_empty() {
-        return Some(config.base_dir.join(&config.output.gt));
-    }
-    let data = args.data.clone().or_else(|| {
-        let path = config.source.params.get("path")?.as_str()?;
-        (!path.is_empty()).then(|| config.base_dir.join(path))
-    })?;
-    Some(data.join("gt.tum")).filter(|p| p.is_file())
-}
-
-/// Accuracy against `gt` into the summary, and the aligned reference into `out`.
-fn add_accuracy(
-    summary: &mut Summary,
-    est: &Trajectory,
-    gt: Option<trajectories::Labelled>,
-    out: &std::path::Path,
-    map: keylo::eval::stamp_map::StampMap,
-) {
-    let Some(mut gt) = gt else { return };
-    let mut ours = trajectories::Labelled::stamped(est.clone(), "the estimated trajectory");
-    let result = trajectories::reconcile(&mut ours, &mut gt).and_then(|()| {
-        warn_poor_association(summary, &ours.trajectory, &gt, map);
-        let opts = keylo::eval::EvalOptions {
-            reference_label: gt.label.clone(),
-            estimate_label: ours.label.clone(),
-            ..keylo::eval::EvalOptions::default()
-        };
-        Ok(keylo::eval::evaluate(
-            &ours.trajectory,
-            &gt.trajectory,
-            &opts,
-        )?)
-    });
-    summary.ground_truth = Some(gt.label.clone());
-    match result {
-        Ok(a) => {
-            summary.accuracy = Some(a);
-            if let Err(e) = crate::reference_out::write(out, &ours.trajectory, &gt.trajectory) {
-                tracing::warn!("no {} for pictures: {e:#}", crate::reference_out::FILE);
-            }
-        }
-        Err(e) => {
-            // Shown even with -q: the user asked for accuracy and does not get it.
-            tracing::error!("no accuracy figures: {e:#}");
-            summary.accuracy_error = Some(format!("{e:#}"));
-        }
-    }
-}
-
-/// Says so (stderr and `summary.json`) when fewer than 90 % of the estimated poses pair
-/// with the reference, with the likely cause and the options that undo it.
-fn warn_poor_association(
-    summary: &mut Summary,
-    est: &Trajectory,
-    gt: &trajectories::Labelled,
-    map: keylo::eval::stamp_map::StampMap,
-) {
-    use keylo::eval::associate::{associate, AssociateOptions};
-    let opts = AssociateOptions::default();
-    let pairs = associate(&gt.trajectory, est, &opts).ok();
-    let coverage =
-        keylo::eval::coverage::coverage_of(est, &gt.trajectory, pairs.as_ref(), opts.max_diff);
-    if coverage.is_low() {
-        let text = crate::reference_args::warning(&coverage, &gt.label, map);
-        // Shown even with -q, as a missing accuracy is: the figures would mislead.
-        eprintln!("warning: {text}");
-        summary.association_warning = Some(text);
-    }
 }
 
 fn progress_bar(len: Option<usize>, quiet: bool) -> ProgressBar {

@@ -23,6 +23,7 @@ mod reference_out;
 mod report;
 mod report_page;
 mod resources;
+mod run_accuracy;
 mod shard;
 mod trajectories;
 

@@ -87,10 +87,18 @@ pub fn svg_string<D: Draw>(size: (u32, u32), fig: &D) -> Result<String, String> 
 }
 
 fn encode_png(path: &Path, rgb: &[u8], size: (u32, u32)) -> Result<(), String> {
-    let file = std::fs::File::create(path).map_err(|e| e.to_string())?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), size.0, size.1);
+    let bytes = rgb_png(rgb, size).map_err(|e| e.to_string())?;
+    std::fs::write(path, bytes).map_err(|e| e.to_string())
+}
+
+/// 8-bit RGB pixels (row-major, `size` = width × height) as PNG bytes.
+pub fn rgb_png(rgb: &[u8], size: (u32, u32)) -> Result<Vec<u8>, png::EncodingError> {
+    let mut bytes = Vec::new();
+    let mut enc = png::Encoder::new(&mut bytes, size.0, size.1);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
-    let mut w = enc.write_header().map_err(|e| e.to_string())?;
-    w.write_image_data(rgb).map_err(|e| e.to_string())
+    let mut w = enc.write_header()?;
+    w.write_image_data(rgb)?;
+    w.finish()?;
+    Ok(bytes)
 }

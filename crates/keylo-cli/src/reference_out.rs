@@ -15,8 +15,15 @@ pub const FILE: &str = "reference.tum";
 /// Writes `reference` aligned onto `estimate` to `out/reference.tum`.
 pub fn write(out: &Path, estimate: &Trajectory, reference: &Trajectory) -> Result<()> {
     let pairs = associate(reference, estimate, &AssociateOptions::default())?;
-    let alignment = align_trajectory(&pairs.reference, &pairs.estimate, false)?;
+    // The accuracy figures align the estimate onto the reference (T · estimate); the
+    // reference in the estimate's frame is T⁻¹ · reference.
+    let alignment = align_trajectory(&pairs.estimate, &pairs.reference, false)?;
+    let inverse = alignment.isometry().inverse();
+    let moved = Trajectory {
+        stamps: reference.stamps.clone(),
+        poses: reference.poses.iter().map(|p| inverse * p).collect(),
+    };
     let path = out.join(FILE);
-    keylo::io::trajectory::write_tum(&path, &alignment.apply_trajectory(reference))
+    keylo::io::trajectory::write_tum(&path, &moved)
         .with_context(|| format!("writing {}", path.display()))
 }

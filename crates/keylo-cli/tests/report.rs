@@ -216,6 +216,8 @@ fn report_of_a_run_and_of_a_compare_folder_is_one_self_contained_page() {
         "cmp",
         "--grid",
         "registrar.voxel_size=0.2,0.4",
+        "--images",
+        "3",
         "-q",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -229,6 +231,10 @@ fn report_of_a_run_and_of_a_compare_folder_is_one_self_contained_page() {
     assert!(
         html.contains("<table>") && html.contains("<svg"),
         "no tables or plots"
+    );
+    assert!(
+        html.contains("Pictures of "),
+        "no pictures of a run made with --images"
     );
     // Not a run or compare folder: a clear error, no page.
     let o = s.keylo(&["report", "data"]);
@@ -293,6 +299,10 @@ fn attribute(dom: &str, name: &str) -> Option<String> {
 #[test]
 fn report_loads_in_headless_chromium_and_its_3d_views_draw() {
     let Some(browser) = browser() else {
+        assert!(
+            std::env::var_os("KEYLO_REQUIRE_BROWSER").is_none(),
+            "KEYLO_REQUIRE_BROWSER is set but no Chromium was found"
+        );
         eprintln!(
             "skipped: no Chromium found (install Debian's `chromium`, as scripts/test.sh does, \
              or set KEYLO_BROWSER)"
@@ -365,4 +375,37 @@ fn report_loads_in_headless_chromium_and_its_3d_views_draw() {
     );
     eprintln!("screenshot kept: {}", shot.display());
     let _ = root();
+}
+
+#[test]
+fn a_report_notes_what_it_cannot_read_and_is_still_written() {
+    let s = Setup::new();
+    let out = s.run("out");
+    // A run stopped before its first frame leaves an empty trajectory; a picture is gone; the
+    // map is damaged; pictures.json points outside its folder.
+    std::fs::write(out.join("trajectory.tum"), "").expect("truncate");
+    std::fs::remove_file(out.join("images/frame_000002_top.png")).expect("remove");
+    std::fs::write(out.join("map.ply"), "ply\nformat nonsense\n").expect("damage");
+    let index = out.join("images/pictures.json");
+    let text = std::fs::read_to_string(&index).expect("pictures.json");
+    std::fs::write(
+        &index,
+        text.replace("frame_000004_top.png", "../../data/gt.tum"),
+    )
+    .expect("rewrite");
+    let o = s.keylo(&["report", "out"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let html = std::fs::read_to_string(out.join("report.html")).expect("report.html");
+    for needle in [
+        "trajectory.tum",
+        "frame_000002_top.png",
+        "map.ply",
+        "is not a file name in images/",
+    ] {
+        let noted = html
+            .split("<p class=\"warn\">Not shown: ")
+            .skip(1)
+            .any(|n| n.split("</p>").next().is_some_and(|n| n.contains(needle)));
+        assert!(noted, "no note about {needle}");
+    }
 }

@@ -1,5 +1,5 @@
 // keylo report: records every script error and console error on <html data-errors="…">, so
-// that a headless browser (crates/keylo-cli/tests/report_browser.rs) can see them.
+// that a headless browser (crates/keylo-cli/tests/report.rs) can see them.
 (function () {
   var errors = [];
   function note(message) {

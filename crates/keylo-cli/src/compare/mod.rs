@@ -123,10 +123,9 @@ fn report(
         .map(|(p, o)| metrics::collect(p, o, crit))
         .unzip();
     metrics::add_rate_ratios(&mut rows);
-    if !quiet {
-        for (data, text) in association::warnings(&rows) {
-            eprintln!("warning: {data}: {text}");
-        }
+    // Shown even with -q (as `keylo run` does): the accuracy columns would mislead.
+    for (data, text) in association::warnings(&rows) {
+        eprintln!("warning: {data}: {text}");
     }
     let md = tables::markdown(&rows, crit);
     write(&out.join("compare.md"), &md)?;
@@ -253,6 +252,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
                     gt,
                     sets: sets.clone(),
                     realtime: args.realtime,
+                    images: args.images,
                     cost: sharded::expected_cost(&loaded, data),
                 });
             }

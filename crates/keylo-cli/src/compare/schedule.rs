@@ -32,6 +32,9 @@ pub struct Planned {
     pub sets: Vec<String>,
     /// `--realtime` speed of the run (`None`: as fast as it goes).
     pub realtime: Option<f64>,
+    /// `--images N` of the run (pictures only: not part of what resume compares).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub images: Option<u64>,
     /// The run folder (`<out>/runs/<id>`; not part of a shard's study, whose shards write
     /// to folders of their own).
     #[serde(skip)]
@@ -204,6 +207,9 @@ fn run_one(exe: &Path, plan: &Planned, opts: &Options) -> Result<Outcome, Compar
     if let Some(gt) = &plan.gt {
         cmd.arg("--gt").arg(gt);
     }
+    if let (Some(_), Some(label)) = (&plan.gt, &plan.gt_label) {
+        cmd.arg(format!("--gt-label={label}"));
+    }
     if let Some(time) = plan.gt_time {
         cmd.arg(format!("--gt-time-scale={}", time.scale))
             .arg(format!("--gt-time-offset={}", time.offset_s));
@@ -216,6 +222,9 @@ fn run_one(exe: &Path, plan: &Planned, opts: &Options) -> Result<Outcome, Compar
     }
     if let Some(speed) = plan.realtime {
         cmd.arg(format!("--realtime={speed}"));
+    }
+    if let Some(every) = plan.images {
+        cmd.arg(format!("--images={every}"));
     }
     let log = |name: &str| {
         let p = plan.dir.join(name);

@@ -139,14 +139,8 @@ impl Canvas {
 
     /// The canvas as PNG bytes (RGB, 8 bits).
     pub fn png(&self) -> Result<Vec<u8>> {
-        let mut bytes = Vec::new();
-        let mut encoder = png::Encoder::new(&mut bytes, self.width as u32, self.height as u32);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        let mut writer = encoder.write_header().context("encoding PNG")?;
-        writer.write_image_data(&self.rgb).context("encoding PNG")?;
-        writer.finish().context("encoding PNG")?;
-        Ok(bytes)
+        let size = (self.width as u32, self.height as u32);
+        crate::plot_out::rgb_png(&self.rgb, size).context("encoding PNG")
     }
 
     /// Writes the canvas to `path` as PNG.

@@ -70,8 +70,11 @@ pub fn draw(view: &ImageView, kept: Option<&Kept>) -> Canvas {
         .filter(|kp| kp.x.is_finite() && kp.y.is_finite())
         .map(|kp| (to_canvas(kp.x, z as usize), to_canvas(kp.y, z as usize), kp))
         .collect();
+    // A circle never needs to be larger than the picture (a plugin's size may be anything).
+    let largest = (canvas.width + canvas.height) as f32;
     for &(x, y, kp) in &marks {
-        let r = ((kp.size.max(0.0) / 2.0 * z).round() as i64).max(3);
+        let size = if kp.size.is_finite() { kp.size } else { 0.0 };
+        let r = ((size.max(0.0) / 2.0 * z).min(largest).round() as i64).max(3);
         canvas.circle(x, y, r, OUTLINE);
         if kp.angle >= 0.0 && kp.angle.is_finite() {
             let a = f64::from(kp.angle).to_radians();
@@ -94,9 +97,17 @@ fn tint_kept(canvas: &mut Canvas, view: &ImageView, kept: &Kept, zoom: usize) {
     let mut mask = vec![false; w * h];
     let span = |start: f64, end: f64, n: usize| {
         let a = (start * zoom as f64).floor().max(0.0) as usize;
-        let b = ((end * zoom as f64).floor() as usize).max(a + 1).min(n);
+        let b = ((end * zoom as f64).floor() as usize)
+            .max(a.saturating_add(1))
+            .min(n);
         a..b
     };
+    let scales_ok = [view.scale_x, view.scale_y]
+        .iter()
+        .all(|s| s.is_finite() && *s > 0.0);
+    if !scales_ok {
+        return;
+    }
     for &i in kept.pixels {
         if kept.cols == 0 || i >= kept.rows * kept.cols {
             continue;
@@ -160,5 +171,30 @@ mod tests {
         assert!(tinted[2] > tinted[0], "{tinted:?}");
         assert_eq!(c.get(1, 0), Some([100, 100, 100]));
         assert_eq!(c.get(40, 12), Some([100, 100, 100]));
+    }
+
+    #[test]
+    fn absurd_sizes_angles_and_scales_draw_quickly_and_do_not_overflow() {
+        let gray = vec![0u8; 16 * 4];
+        let kps = [
+            kp(3.0, 1.0, f32::INFINITY, f32::NAN),
+            kp(5.0, 2.0, 1e30, 1e30),
+            kp(7.0, 2.0, f32::NAN, 45.0),
+        ];
+        let view = ImageView {
+            gray: &gray,
+            width: 16,
+            height: 4,
+            scale_x: 0.0,
+            scale_y: f64::NAN,
+            keypoints: &kps,
+        };
+        let kept = Kept {
+            pixels: &[0, 5, usize::MAX],
+            rows: 4,
+            cols: 16,
+        };
+        let c = draw(&view, Some(&kept));
+        assert_eq!(c.get(7, 3), Some(CENTRE));
     }
 }

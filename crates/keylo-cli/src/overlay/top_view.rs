@@ -25,20 +25,27 @@ pub struct TopView {
 /// raw points, rounded up to 5 m.
 pub fn draw(raw: &[Point3<f64>], selected: &[Point3<f64>]) -> TopView {
     let half_extent_m = extent(raw);
-    let ring_step_m = if half_extent_m > 40.0 { 10.0 } else { 5.0 };
+    // 5 m rings, 10 m beyond a 40 m view, and at most about 12 rings however far it spans.
+    let ring_step_m = match half_extent_m {
+        e if e <= 40.0 => 5.0,
+        e if e <= 120.0 => 10.0,
+        e => (e / 12.0 / 10.0).ceil() * 10.0,
+    };
     let centre = (SIDE / 2) as i64;
     let per_m = (SIDE / 2 - 1) as f64 / half_extent_m;
+    // Far points (even absurd ones) land off the picture: saturating, never overflowing.
     let to_px = |p: &Point3<f64>| {
         (
-            centre - (p.y * per_m).round() as i64,
-            centre - (p.x * per_m).round() as i64,
+            centre.saturating_sub((p.y * per_m).round() as i64),
+            centre.saturating_sub((p.x * per_m).round() as i64),
         )
     };
     let mut canvas = Canvas::new(SIDE, SIDE, BACKGROUND);
-    let mut r = ring_step_m;
-    while r <= half_extent_m * 1.42 {
+    // Rings up to the picture's corners.
+    let rings = (half_extent_m * 1.42 / ring_step_m) as usize;
+    for k in 1..=rings {
+        let r = k as f64 * ring_step_m;
         canvas.circle(centre, centre, (r * per_m).round() as i64, RING);
-        r += ring_step_m;
     }
     for p in raw
         .iter()
@@ -95,5 +102,19 @@ mod tests {
         assert_eq!(c.get(1, 400), Some(RAW));
         assert_eq!(c.get(799, 400), Some(SELECTED));
         assert_eq!(c.get(400, 400), Some(SENSOR));
+    }
+
+    #[test]
+    fn absurdly_far_points_keep_the_rings_few_and_land_off_the_picture() {
+        let raw: Vec<Point3<f64>> = (0..100)
+            .map(|i| Point3::new(1e15 * i as f64, -1e300, 0.0))
+            .collect();
+        let v = draw(&raw, &[Point3::new(f64::MAX, f64::MIN, 0.0)]);
+        assert!(
+            v.ring_step_m >= v.half_extent_m / 12.0,
+            "{} m rings",
+            v.ring_step_m
+        );
+        assert_eq!(v.canvas.get(400, 400), Some(SENSOR));
     }
 }

@@ -18,11 +18,7 @@ pub fn to_html(md: &str) -> String {
             list = false;
         }
         if line.starts_with('|') {
-            let cells: Vec<String> = line
-                .trim_matches('|')
-                .split('|')
-                .map(|c| c.trim().to_string())
-                .collect();
+            let cells = cells(line);
             if !cells
                 .iter()
                 .all(|c| !c.is_empty() && c.chars().all(|ch| "-: ".contains(ch)))
@@ -51,6 +47,29 @@ pub fn to_html(md: &str) -> String {
         out.push_str("</ul>");
     }
     out
+}
+
+/// The cells of a pipe-table row; `\|` is a pipe inside a cell.
+fn cells(line: &str) -> Vec<String> {
+    let inner = line.trim().trim_start_matches('|');
+    let inner = inner
+        .strip_suffix('|')
+        .filter(|s| !s.ends_with('\\'))
+        .unwrap_or(inner);
+    let (mut out, mut cell) = (Vec::new(), String::new());
+    let mut chars = inner.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' if chars.peek() == Some(&'|') => {
+                cell.push('|');
+                chars.next();
+            }
+            '|' => out.push(std::mem::take(&mut cell)),
+            c => cell.push(c),
+        }
+    }
+    out.push(cell);
+    out.into_iter().map(|c| c.trim().to_string()).collect()
 }
 
 fn render_table(rows: &[Vec<String>]) -> String {
@@ -93,6 +112,7 @@ mod tests {
     #[test]
     fn tables_headings_lists_and_inline_marks() {
         let md = "# keylo compare\n\n## Accuracy\n\n| a | b<c |\n|---|---|\n| 1 | `x` |\n\n- **one**\n- two\ntext";
+        assert_eq!(cells("| a \\| b | c |"), ["a | b", "c"]);
         let html = to_html(md);
         assert!(
             html.contains("<h2>keylo compare</h2><h3>Accuracy</h3>"),

@@ -5,6 +5,7 @@ mod compare_folder;
 mod html;
 mod markdown;
 mod page;
+mod pictures_part;
 mod run_folder;
 mod run_parts;
 mod run_plots;

@@ -7,6 +7,7 @@ use super::scene::Scene;
 static STYLE: &str = include_str!("../../assets/report/report.css");
 static ERRORS: &str = include_str!("../../assets/report/errors.js");
 static THREE: &str = include_str!("../../assets/three/three-keylo.min.js");
+static THREE_LICENCE: &str = include_str!("../../assets/three/LICENSE");
 static VIEWS: &str = include_str!("../../assets/report/views.js");
 
 /// One titled part of the page.
@@ -76,18 +77,21 @@ impl Page {
                 s.html
             ));
         }
-        // `</` cannot end the JSON's script element early: serde_json leaves `/` alone, so
-        // escape it.
+        // Inside a script element no `<` may open a tag or comment (`</script>`, `<!--`);
+        // these characters only occur inside JSON strings, where \u escapes mean the same.
         let scenes = serde_json::to_string(&self.scenes)
             .unwrap_or_else(|_| "[]".into())
-            .replace("</", "<\\/");
+            .replace('<', "\\u003c")
+            .replace('>', "\\u003e")
+            .replace('&', "\\u0026");
         format!(
             "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
              <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\
              <title>{title}</title><script>{ERRORS}</script><style>{STYLE}</style></head>\
              <body>{body}\
              <script type=\"application/json\" id=\"keylo-scenes\">{scenes}</script>\
-             <script>{THREE}</script><script>{VIEWS}</script></body></html>\n",
+             <script>/* three.js r187 (npm `three` 0.187.0), bundled with esbuild.\n\
+             {THREE_LICENCE}*/\n{THREE}</script><script>{VIEWS}</script></body></html>\n",
             title = escape(&self.title),
         )
     }
@@ -100,4 +104,30 @@ fn legend_item(colour: &str, name: &str, what: &str) -> String {
         escape(name),
         escape(what)
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report_page::scene::Cloud;
+
+    #[test]
+    fn names_cannot_end_the_scene_script_or_open_a_comment() {
+        let mut page = Page::default();
+        let name = "</script><!--<script>&";
+        let scene = Scene {
+            title: name.into(),
+            clouds: vec![Cloud::thinned(name, "#fff", 1.0, &[[0.0; 3]], 10)],
+            lines: Vec::new(),
+        };
+        page.scene(scene);
+        let html = page.render();
+        let start = html.find("id=\"keylo-scenes\">").expect("scene data") + 18;
+        let end = start + html[start..].find("</script>").expect("its end");
+        let json = &html[start..end];
+        assert!(!json.contains(['<', '>', '&']), "{json}");
+        let back: serde_json::Value = serde_json::from_str(json).expect("valid JSON");
+        assert_eq!(back[0]["title"], name);
+        assert!(html.contains("Copyright"), "three.js's licence notice");
+    }
 }

@@ -6,7 +6,8 @@ use anyhow::Result;
 
 use super::html::{self, escape};
 use super::page::Page;
-use super::run_parts::{self, Limits};
+use super::pictures_part;
+use super::run_parts::{self, notes_html, soft, Limits, Notes};
 
 /// Builds the page of the run in `dir`.
 pub fn page(dir: &Path, limits: Limits) -> Result<Page> {
@@ -45,12 +46,16 @@ pub fn page(dir: &Path, limits: Limits) -> Result<Page> {
     let reference = summary
         .get("ground_truth")
         .and_then(|v| v.as_str())
-        .unwrap_or("reference");
+        .map_or("reference".into(), |p| {
+            crate::reference_args::file_label(Path::new(p))
+        });
+    let mut notes = Notes::new();
     let mut view = String::new();
-    match run_parts::map_scene(dir, reference, limits)? {
+    match run_parts::map_scene(dir, &reference, limits, &mut notes) {
         Some(scene) => view.push_str(&page.scene(scene)),
         None => view.push_str("<p class=\"note\">This run has no map.ply and no trajectory.</p>"),
     }
+    view.push_str(&notes_html(&std::mem::take(&mut notes)));
     if !dir.join(crate::reference_out::FILE).is_file() {
         view.push_str(
             "<p class=\"note\">No reference trajectory: run with --gt (or data with its own \
@@ -58,15 +63,15 @@ pub fn page(dir: &Path, limits: Limits) -> Result<Page> {
         );
     }
     page.section("Local map and trajectory (3-D)", view);
-    let pictured = run_parts::pictured(dir)?;
+    let pictured = soft(pictures_part::pictured(dir), &mut notes).flatten();
     match &pictured {
         Some(list) => {
-            if let Some(scene) = run_parts::frame_scene(dir, list, limits)? {
-                let html = page.scene(scene);
+            if let Some(scene) = pictures_part::frame_scene(dir, list, limits, &mut notes) {
+                let html = page.scene(scene) + &notes_html(&std::mem::take(&mut notes));
                 page.section("One frame: raw and registered points (3-D)", html);
             }
-            let html = run_parts::pictures_html(dir, list, limits.max_pictures)?;
-            page.section("Pictures", html);
+            let html = pictures_part::pictures_html(dir, list, limits.max_pictures, &mut notes);
+            page.section("Pictures", notes_html(&std::mem::take(&mut notes)) + &html);
         }
         None => page.section(
             "Pictures",
@@ -75,9 +80,13 @@ pub fn page(dir: &Path, limits: Limits) -> Result<Page> {
                 .into(),
         ),
     }
-    let plots = super::run_plots::frame_plots(dir)?;
-    if !plots.is_empty() {
-        let html: String = plots.iter().map(|(t, svg)| html::figure(svg, t)).collect();
+    let plots = soft(super::run_plots::frame_plots(dir), &mut notes).unwrap_or_default();
+    if !plots.is_empty() || !notes.is_empty() {
+        let html: String = notes_html(&std::mem::take(&mut notes))
+            + &plots
+                .iter()
+                .map(|(t, svg)| html::figure(svg, t))
+                .collect::<String>();
         page.section("Per frame", html);
     }
     page.section(

@@ -1,6 +1,6 @@
-//! What a report shows of one run folder (`keylo run --out DIR`): its summary, the local
-//! map with the trajectory and the reference, one frame's raw and registered points, the
-//! pictures of `--images`, per-frame plots.
+//! What a report shows of one run folder (`keylo run --out DIR`): its summary and the local
+//! map with the trajectory and the reference (pictures: `pictures_part`). A file that cannot
+//! be read becomes a note on the page, never a missing page.
 
 use std::path::Path;
 
@@ -9,7 +9,6 @@ use serde_json::Value;
 
 use super::html::{self, escape};
 use super::scene::{Cloud, Polyline, Scene};
-use crate::overlay::Pictured;
 
 /// Colours shared by every report.
 pub const MAP: &str = "#9a9a9a";
@@ -24,6 +23,22 @@ pub struct Limits {
     pub max_points: usize,
     /// Pictured frames.
     pub max_pictures: usize,
+}
+
+/// What could not be shown, and why (each an error chain).
+pub type Notes = Vec<String>;
+
+/// `r`'s value, or `None` with its error noted.
+pub fn soft<T>(r: Result<T>, notes: &mut Notes) -> Option<T> {
+    r.map_err(|e| notes.push(format!("{e:#}"))).ok()
+}
+
+/// The notes as warnings on the page (empty when there are none).
+pub fn notes_html(notes: &[String]) -> String {
+    notes
+        .iter()
+        .map(|n| format!("<p class=\"warn\">Not shown: {}</p>", escape(n)))
+        .collect()
 }
 
 /// The headline figures of a run, in this order, where `summary.json` has them.
@@ -117,9 +132,14 @@ pub fn positions(path: &Path) -> Result<Vec<[f32; 3]>> {
 }
 
 /// The final local map, the estimated trajectory and (when the run had one) the aligned
-/// reference, in the world frame of the run; `None` with a note when the run has neither a
-/// map nor a trajectory.
-pub fn map_scene(dir: &Path, reference_label: &str, limits: Limits) -> Result<Option<Scene>> {
+/// reference, in the world frame of the run; `None` when the run has none of them (an
+/// unreadable file is noted).
+pub fn map_scene(
+    dir: &Path,
+    reference_label: &str,
+    limits: Limits,
+    notes: &mut Notes,
+) -> Option<Scene> {
     let mut scene = Scene {
         title: format!("local map and trajectory of {}", dir.display()),
         clouds: Vec::new(),
@@ -127,122 +147,38 @@ pub fn map_scene(dir: &Path, reference_label: &str, limits: Limits) -> Result<Op
     };
     let map = dir.join("map.ply");
     if map.is_file() {
-        let points = crate::cloud_ply::read(&map)?;
-        let cloud = Cloud::thinned(
-            "local map after the last frame",
-            MAP,
-            1.5,
-            &points,
-            limits.max_points,
-        );
-        scene.clouds.push(cloud);
+        if let Some(points) = soft(crate::cloud_ply::read(&map), notes) {
+            let name = "local map after the last frame";
+            scene
+                .clouds
+                .push(Cloud::thinned(name, MAP, 1.5, &points, limits.max_points));
+        }
     }
     let reference = dir.join(crate::reference_out::FILE);
-    if reference.is_file() {
-        let name = format!("{reference_label} (aligned as for the accuracy figures)");
-        scene.lines.push(Polyline::new(
-            &name,
-            REFERENCE,
-            7.0,
-            &positions(&reference)?,
-        ));
-    }
+    let name = format!("{reference_label} (aligned as for the accuracy figures)");
+    push_path(&mut scene, &reference, &name, (REFERENCE, 7.0), notes);
     let est = dir.join("trajectory.tum");
-    if est.is_file() {
-        scene.lines.push(Polyline::new(
-            "keylo's trajectory",
-            ESTIMATE,
-            3.0,
-            &positions(&est)?,
-        ));
-    }
-    Ok((!scene.clouds.is_empty() || !scene.lines.is_empty()).then_some(scene))
+    push_path(
+        &mut scene,
+        &est,
+        "keylo's trajectory",
+        (ESTIMATE, 3.0),
+        notes,
+    );
+    (!scene.clouds.is_empty() || !scene.lines.is_empty()).then_some(scene)
 }
 
-/// The `images/pictures.json` list of `keylo run --images`, if the run has one.
-pub fn pictured(dir: &Path) -> Result<Option<Vec<Pictured>>> {
-    let path = dir.join("images").join(crate::overlay::INDEX);
-    if !path.is_file() {
-        return Ok(None);
-    }
-    let text =
-        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-    let list = serde_json::from_str(&text)
-        .with_context(|| format!("{}: not a list of pictured frames", path.display()))?;
-    Ok(Some(list))
-}
-
-/// One frame's raw points and the registered ones (sensor frame).
-pub fn frame_scene(dir: &Path, pictured: &[Pictured], limits: Limits) -> Result<Option<Scene>> {
-    let Some((frame, [raw, selected])) = pictured
-        .iter()
-        .find_map(|p| p.clouds.clone().map(|c| (p.frame, c)))
-    else {
-        return Ok(None);
-    };
-    let images = dir.join("images");
-    let raw = crate::cloud_ply::read(&images.join(raw))?;
-    let selected = crate::cloud_ply::read(&images.join(selected))?;
-    Ok(Some(Scene {
-        title: format!("frame {frame}: raw and registered points"),
-        clouds: vec![
-            Cloud::thinned("raw points", MAP, 1.5, &raw, limits.max_points),
-            Cloud::thinned(
-                "points given to the registrar",
-                SELECTED,
-                3.5,
-                &selected,
-                limits.max_points,
-            ),
-        ],
-        lines: Vec::new(),
-    }))
-}
-
-/// The pictures of at most `max` frames, spread evenly over those pictured.
-pub fn pictures_html(dir: &Path, pictured: &[Pictured], max: usize) -> Result<String> {
-    let step = pictured.len().div_ceil(max.max(1)).max(1);
-    let mut out = String::new();
-    if step > 1 {
-        out.push_str(&format!(
-            "<p class=\"note\">{} frames were pictured; one in {step} is shown here (all are in {}).</p>",
-            pictured.len(),
-            escape(&dir.join("images").display().to_string())
-        ));
-    }
-    let images = dir.join("images");
-    for p in pictured.iter().step_by(step) {
-        out.push_str(&format!(
-            "<h3>Frame {}</h3><div class=\"pictures\">",
-            p.frame
-        ));
-        for i in &p.images {
-            let caption = format!(
-                "{}: {} keypoints (yellow circles: size and orientation, red: position); \
-                 tinted blue: pixels whose points were registered",
-                i.image, i.keypoints
-            );
-            out.push_str(&png_figure(&images.join(&i.file), &caption)?);
+/// Adds the trajectory at `path` (when the file exists) as a line of `(colour, dot size)`.
+pub fn push_path(
+    scene: &mut Scene,
+    path: &Path,
+    name: &str,
+    (colour, size): (&str, f32),
+    notes: &mut Notes,
+) {
+    if path.is_file() {
+        if let Some(p) = soft(positions(path), notes) {
+            scene.lines.push(Polyline::new(name, colour, size, &p));
         }
-        out.push_str("</div><div class=\"pictures top\">");
-        let t = &p.top;
-        let caption = format!(
-            "from above, forward up: {} raw points (grey), {} registered (orange); rings every {} m, edge at {} m",
-            t.raw_points, t.selected_points, t.ring_step_m, t.half_extent_m
-        );
-        out.push_str(&png_figure(&images.join(&t.file), &caption)?);
-        out.push_str("</div>");
     }
-    Ok(out)
-}
-
-fn png_figure(path: &Path, caption: &str) -> Result<String> {
-    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-    let name = path
-        .file_name()
-        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
-    Ok(html::figure(
-        &html::image("image/png", &bytes, &name),
-        caption,
-    ))
 }

@@ -136,40 +136,47 @@ fn unit_of(factor: f64) -> &'static str {
     }
 }
 
-/// The likely cause, trying the common mistakes in turn.
+/// The likely cause, trying the common mistakes in turn. A mistake with a fix is named only
+/// when its fix, applied to the reference, pairs at least [`super::MIN_FRACTION`] of the
+/// estimated stamps (a 1 Hz reference on whole seconds looks like frame indices, but scaling
+/// it by 0.1 would not help: it is sparse).
 pub fn diagnose(estimate: &[f64], reference: &[f64], max_diff: f64) -> LikelyCause {
     let (Some(e), Some(r)) = (TimeRange::of(estimate), TimeRange::of(reference)) else {
         return LikelyCause::Unknown;
     };
     let meet = |scale: f64| round_offset(e.first - r.first * scale, max_diff);
-    if let Some(scale) = frame_index_scale(estimate, reference) {
-        return LikelyCause::FrameIndices {
-            scale,
-            offset_s: meet(scale),
-        };
-    }
-    if let Some((factor, scale)) = power_of_ten(e.span(), r.span()) {
-        return LikelyCause::PowerOfTen {
-            factor,
-            scale,
-            offset_s: meet(scale),
-        };
-    }
+    let frames = frame_index_scale(estimate, reference).map(|scale| LikelyCause::FrameIndices {
+        scale,
+        offset_s: meet(scale),
+    });
+    let units = power_of_ten(e.span(), r.span()).map(|(factor, scale)| LikelyCause::PowerOfTen {
+        factor,
+        scale,
+        offset_s: meet(scale),
+    });
     let apart = e.last < r.first - max_diff || r.last < e.first - max_diff;
     let short = e.span() > 0.0 && e.overlap(&r) < MIN_COVER * e.span();
     let same_length = (r.span() / e.span() - 1.0).abs() <= RATIO_TOLERANCE;
-    if apart || (short && same_length) {
-        return LikelyCause::Offset {
-            offset_s: meet(1.0),
-        };
+    let offset = (apart || (short && same_length)).then(|| LikelyCause::Offset {
+        offset_s: meet(1.0),
+    });
+    let shift = constant_shift(estimate, reference, max_diff)
+        .map(|offset_s| LikelyCause::Shift { offset_s });
+    let fixes = |c: &LikelyCause| {
+        c.fix().is_some_and(|m| {
+            paired_fraction(estimate, reference, m, max_diff) >= super::MIN_FRACTION
+        })
+    };
+    if let Some(c) = [frames, units, offset].into_iter().flatten().find(fixes) {
+        return c;
     }
     if short {
         return LikelyCause::ShortReference {
             covered: e.overlap(&r) / e.span(),
         };
     }
-    if let Some(offset_s) = constant_shift(estimate, reference, max_diff) {
-        return LikelyCause::Shift { offset_s };
+    if let Some(c) = shift.filter(fixes) {
+        return c;
     }
     match median_step(reference) {
         Some(step_s) if step_s > 2.0 * max_diff => LikelyCause::SparseReference {
@@ -178,6 +185,27 @@ pub fn diagnose(estimate: &[f64], reference: &[f64], max_diff: f64) -> LikelyCau
         },
         _ => LikelyCause::Unknown,
     }
+}
+
+/// The share of `estimate`'s stamps within `max_diff` of a reference stamp once `map` is
+/// applied to the reference.
+fn paired_fraction(estimate: &[f64], reference: &[f64], map: StampMap, max_diff: f64) -> f64 {
+    let mut mapped: Vec<f64> = reference
+        .iter()
+        .map(|&t| map.map(t))
+        .filter(|t| t.is_finite())
+        .collect();
+    mapped.sort_by(f64::total_cmp);
+    let near = |t: f64| {
+        let i = mapped.partition_point(|&s| s < t);
+        [i.checked_sub(1), Some(i)]
+            .into_iter()
+            .flatten()
+            .filter_map(|j| mapped.get(j))
+            .any(|s| (s - t).abs() <= max_diff)
+    };
+    let paired = estimate.iter().filter(|&&t| near(t)).count();
+    paired as f64 / estimate.len().max(1) as f64
 }
 
 /// The estimate's step when the reference counts frames (whole numbers, step 1) and the
@@ -323,5 +351,17 @@ mod tests {
             matches!(sparse, LikelyCause::SparseReference { .. }),
             "{sparse:?}"
         );
+    }
+
+    #[test]
+    fn a_cause_is_named_only_when_its_fix_pairs_the_poses() {
+        // A 1 Hz reference on whole seconds looks like frame indices, but scaling it by 0.1
+        // would pair almost nothing: it is sparse.
+        let cause = diagnose(&seq(154, 0.0, 0.1), &seq(16, 0.0, 1.0), 0.01);
+        assert!(
+            matches!(cause, LikelyCause::SparseReference { .. }),
+            "{cause:?}"
+        );
+        assert_eq!(cause.fix(), None);
     }
 }

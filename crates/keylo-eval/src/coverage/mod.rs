@@ -101,7 +101,8 @@ impl Coverage {
             if self.is_low() { "only " } else { "" },
             self.associated,
             self.estimated,
-            100.0 * self.fraction,
+            // Floored: 89.6 % must not read "90 %" under a 90 % threshold.
+            (100.0 * self.fraction).floor(),
             range(self.estimate_range_s),
             range(self.reference_range_s),
         )

@@ -83,8 +83,9 @@ impl Downsampler for KeypointNeighbourhood {
         }
         match self.config.on_too_few {
             TooFew::AllPoints => {
+                // The pixels `LidarFrame::cloud` takes: every valid one.
                 self.selected = (0..frame.rows * frame.cols)
-                    .filter(|&i| frame.valid[i] && frame.range[i] > 0.0)
+                    .filter(|&i| frame.valid[i])
                     .collect();
                 Ok(frame.cloud(mode))
             }
