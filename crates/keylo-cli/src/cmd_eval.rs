@@ -4,7 +4,7 @@ use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
 use keylo::eval::associate::{associate_labeled, AssociateOptions};
-use keylo::eval::coverage::{coverage_of, Coverage};
+use keylo::eval::coverage::{of_evaluation, Coverage};
 use keylo::eval::rpe::{rpe, Delta, RpeOptions};
 use keylo::eval::{evaluate, EvalOptions};
 
@@ -24,7 +24,7 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
         ..EvalOptions::default()
     };
     let label = args.reference.label(&args.gt);
-    let coverage = association(&opts, &est, &gt);
+    let coverage = of_evaluation(&est, &gt, &opts);
     if coverage.is_low() {
         let warning = reference_args::warning(&coverage, &label, args.reference.stamp_map());
         eprintln!("warning: {warning}");
@@ -74,19 +74,6 @@ fn print_json(acc: &keylo::eval::Accuracy, label: String, coverage: &Coverage) -
     }
     println!("{}", serde_json::to_string_pretty(&doc)?);
     Ok(())
-}
-
-/// How many estimated poses associate with the reference (as [`evaluate`] pairs them).
-fn association(opts: &EvalOptions, est: &keylo::Trajectory, gt: &keylo::Trajectory) -> Coverage {
-    let pairs = associate_labeled(
-        gt,
-        &opts.reference_label,
-        est,
-        &opts.estimate_label,
-        &opts.associate,
-    )
-    .ok();
-    coverage_of(est, gt, pairs.as_ref(), opts.associate.max_diff)
 }
 
 /// The association figures; the two time ranges too when fewer than 90 % associate.

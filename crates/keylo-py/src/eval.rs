@@ -125,9 +125,25 @@ pub fn evaluate<'py>(
         ..EvalOptions::default()
     };
     let (et, gtr) = (&e.trajectory, &g.trajectory);
-    let acc = py
-        .detach(|| evaluate_rs(et, gtr, &opts))
+    let (acc, coverage) = py
+        .detach(|| {
+            let coverage = keylo::eval::coverage::of_evaluation(et, gtr, &opts);
+            evaluate_rs(et, gtr, &opts).map(|acc| (acc, coverage))
+        })
         .map_err(|err| DataError::new_err(err.to_string()))?;
-    let json = serde_json::to_string(&acc).map_err(|err| KeyloError::new_err(err.to_string()))?;
-    py.import("json")?.call_method1("loads", (json,))
+    // `keylo eval --json`'s document: the figures, the reference's name, the association.
+    let mut doc = serde_json::to_value(&acc).map_err(|err| KeyloError::new_err(err.to_string()))?;
+    if let Some(map) = doc.as_object_mut() {
+        // As `keylo eval` names it: the file's name (an array is "gt").
+        let label = gt
+            .extract::<PathBuf>()
+            .ok()
+            .and_then(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .unwrap_or_else(|| g.label.clone());
+        map.insert("reference_label".into(), label.into());
+        let c =
+            serde_json::to_value(&coverage).map_err(|err| KeyloError::new_err(err.to_string()))?;
+        map.insert("association".into(), c);
+    }
+    py.import("json")?.call_method1("loads", (doc.to_string(),))
 }

@@ -79,6 +79,23 @@ pub fn coverage_of(
     coverage(&estimate.stamps, &reference.stamps, associated, max_diff)
 }
 
+/// [`coverage_of`] with the pairs [`crate::evaluate`] makes under `opts`.
+pub fn of_evaluation(
+    estimate: &Trajectory,
+    reference: &Trajectory,
+    opts: &crate::EvalOptions,
+) -> Coverage {
+    let pairs = crate::associate::associate_labeled(
+        reference,
+        &opts.reference_label,
+        estimate,
+        &opts.estimate_label,
+        &opts.associate,
+    )
+    .ok();
+    coverage_of(estimate, reference, pairs.as_ref(), opts.associate.max_diff)
+}
+
 impl Coverage {
     /// Fewer than [`MIN_FRACTION`] of the estimated poses associated.
     pub fn is_low(&self) -> bool {
