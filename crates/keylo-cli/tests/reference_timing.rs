@@ -42,6 +42,17 @@ fn path(frames: bool, stretch: f64) -> String {
         .collect()
 }
 
+/// The TUM file at `gt` with each stamp replaced by its pose's index.
+fn frame_indexed(gt: &Path) -> String {
+    std::fs::read_to_string(gt)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .enumerate()
+        .map(|(i, l)| format!("{i} {}\n", l.split_once(' ').unwrap().1))
+        .collect()
+}
+
 #[test]
 fn eval_names_a_frame_index_reference_and_the_scale_fixes_it() {
     let tmp = tempfile::tempdir().unwrap();
@@ -96,14 +107,7 @@ fn compare_says_why_few_poses_pair_and_the_suggested_options_fix_it() {
     let tmp = tempfile::tempdir().unwrap();
     let data = tmp.path().join("seq");
     small_sim(&data, 8);
-    // The simulator's ground truth with each stamp replaced by its frame index.
-    let gt = std::fs::read_to_string(data.join("gt.tum")).unwrap();
-    let frames: String = gt
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-        .enumerate()
-        .map(|(i, l)| format!("{i} {}\n", l.split_once(' ').unwrap().1))
-        .collect();
+    let frames = frame_indexed(&data.join("gt.tum"));
     let frames_path = tmp.path().join("frames.tum");
     std::fs::write(&frames_path, frames).unwrap();
     let compare = |out: &str, gt: &Path, extra: &[String]| {
@@ -171,17 +175,7 @@ fn run_warns_of_a_frame_index_reference_and_the_options_fix_it() {
     let tmp = tempfile::tempdir().unwrap();
     let data = tmp.path().join("data");
     small_sim(&data, 8);
-    // The simulator's gt.tum with its stamps replaced by frame indices.
-    let gt = std::fs::read_to_string(data.join("gt.tum")).unwrap();
-    let frames: String = gt
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-        .enumerate()
-        .map(|(i, l)| {
-            let rest: Vec<&str> = l.split_whitespace().skip(1).collect();
-            format!("{i} {}\n", rest.join(" "))
-        })
-        .collect();
+    let frames = frame_indexed(&data.join("gt.tum"));
     std::fs::write(tmp.path().join("frames.tum"), frames).unwrap();
     let o = keylo_line("run --data data --gt frames.tum --out low -q", tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));

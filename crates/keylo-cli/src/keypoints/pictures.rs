@@ -6,23 +6,13 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use keylo::kpeval::pictures::Pictured;
 
-use crate::overlay::{draw_image, first_plane, ImageView};
+use crate::overlay::draw_image;
 
 /// Writes one picture per detector and image; returns how many.
 pub fn write(out: &Path, pictured: &[Pictured]) -> Result<usize> {
     let dir = out.join("images");
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     for p in pictured {
-        let img = &p.image;
-        let gray = first_plane(img);
-        let view = ImageView {
-            gray: &gray,
-            width: img.width,
-            height: img.height,
-            scale_x: img.scale_x,
-            scale_y: img.scale_y,
-            keypoints: &p.keypoints,
-        };
         let name: String = p
             .detector
             .chars()
@@ -34,7 +24,8 @@ pub fn write(out: &Path, pictured: &[Pictured]) -> Result<usize> {
                 }
             })
             .collect();
-        draw_image(&view, None).write_png(&dir.join(format!("{name}_{:05}.png", p.index)))?;
+        draw_image(&p.image, &p.keypoints, None)
+            .write_png(&dir.join(format!("{name}_{:05}.png", p.index)))?;
     }
     Ok(pictured.len())
 }

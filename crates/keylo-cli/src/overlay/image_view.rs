@@ -34,11 +34,25 @@ pub struct Kept<'a> {
 }
 
 /// The first plane of `image`, row-major without padding.
-pub fn first_plane(image: &keylo::Image) -> Vec<u8> {
+fn first_plane(image: &keylo::Image) -> Vec<u8> {
     (0..image.height)
         .flat_map(|y| (0..image.width).map(move |x| (x, y)))
         .map(|(x, y)| image.get(x, y).unwrap_or(0))
         .collect()
+}
+
+/// Draws a detector's `image` (its first plane) with `keypoints` and the `kept` pixels.
+pub fn draw_image(image: &keylo::Image, keypoints: &[Keypoint], kept: Option<&Kept>) -> Canvas {
+    let gray = first_plane(image);
+    let view = ImageView {
+        gray: &gray,
+        width: image.width,
+        height: image.height,
+        scale_x: image.scale_x,
+        scale_y: image.scale_y,
+        keypoints,
+    };
+    draw(&view, kept)
 }
 
 /// Canvas pixels per image pixel: images under 128 rows (the paper's 1024×64) are drawn

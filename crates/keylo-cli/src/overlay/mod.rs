@@ -15,7 +15,7 @@ use keylo::{Channel, FrameFeatures, LidarFrame, PointCloud};
 use serde::{Deserialize, Serialize};
 
 pub use canvas::Canvas;
-pub use image_view::{draw as draw_image, first_plane, ImageView, Kept};
+pub use image_view::{draw, draw_image, ImageView, Kept};
 pub use pictures::{Pictures, INDEX};
 pub use single::Single;
 pub use top_view::draw as draw_top;
@@ -82,17 +82,8 @@ pub fn write(dir: &Path, o: &FrameOverlay) -> Result<Pictured> {
     };
     for c in &o.features.per_image {
         let img = &c.image;
-        let gray = first_plane(img);
-        let view = ImageView {
-            gray: &gray,
-            width: img.width,
-            height: img.height,
-            scale_x: img.scale_x,
-            scale_y: img.scale_y,
-            keypoints: &c.keypoints,
-        };
         images.push(PicturedImage {
-            file: save(&img.name(), draw_image(&view, kept.as_ref()))?,
+            file: save(&img.name(), draw_image(img, &c.keypoints, kept.as_ref()))?,
             image: img.name(),
             keypoints: c.keypoints.len(),
         });
@@ -109,7 +100,7 @@ pub fn write(dir: &Path, o: &FrameOverlay) -> Result<Pictured> {
                 keypoints: &[],
             };
             images.push(PicturedImage {
-                file: save(channel.name(), draw_image(&view, kept.as_ref()))?,
+                file: save(channel.name(), draw(&view, kept.as_ref()))?,
                 image: channel.name().into(),
                 keypoints: 0,
             });

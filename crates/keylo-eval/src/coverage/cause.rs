@@ -196,16 +196,20 @@ fn paired_fraction(estimate: &[f64], reference: &[f64], map: StampMap, max_diff:
         .filter(|t| t.is_finite())
         .collect();
     mapped.sort_by(f64::total_cmp);
-    let near = |t: f64| {
-        let i = mapped.partition_point(|&s| s < t);
-        [i.checked_sub(1), Some(i)]
-            .into_iter()
-            .flatten()
-            .filter_map(|j| mapped.get(j))
-            .any(|s| (s - t).abs() <= max_diff)
-    };
+    let near = |t: f64| nearest(&mapped, t).is_some_and(|d| d.abs() <= max_diff);
     let paired = estimate.iter().filter(|&&t| near(t)).count();
     paired as f64 / estimate.len().max(1) as f64
+}
+
+/// The signed time from `t` to the nearest of the `sorted` stamps.
+fn nearest(sorted: &[f64], t: f64) -> Option<f64> {
+    let i = sorted.partition_point(|&s| s < t);
+    [i.checked_sub(1), Some(i)]
+        .into_iter()
+        .flatten()
+        .filter_map(|j| sorted.get(j))
+        .map(|s| s - t)
+        .min_by(|a, b| a.abs().total_cmp(&b.abs()))
 }
 
 /// The estimate's step when the reference counts frames (whole numbers, step 1) and the
@@ -239,16 +243,10 @@ fn constant_shift(estimate: &[f64], reference: &[f64], max_diff: f64) -> Option<
         .filter(|t| t.is_finite())
         .collect();
     sorted.sort_by(f64::total_cmp);
-    let nearest = |t: f64| {
-        let i = sorted.partition_point(|&s| s < t);
-        [i.checked_sub(1), Some(i)]
-            .into_iter()
-            .flatten()
-            .filter_map(|j| sorted.get(j))
-            .map(|s| s - t)
-            .min_by(|a, b| a.abs().total_cmp(&b.abs()))
-    };
-    let diffs: Vec<f64> = estimate.iter().filter_map(|&t| nearest(t)).collect();
+    let diffs: Vec<f64> = estimate
+        .iter()
+        .filter_map(|&t| nearest(&sorted, t))
+        .collect();
     let shift = median(diffs.clone())?;
     let spread = median(diffs.iter().map(|d| (d - shift).abs()).collect())?;
     (shift.abs() > max_diff && spread <= max_diff).then(|| round_offset(-shift, max_diff))
