@@ -4,7 +4,7 @@ use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
 use keylo::eval::associate::{associate_labeled, AssociateOptions};
-use keylo::eval::coverage::{of_evaluation, Coverage};
+use keylo::eval::coverage::{of_evaluation, range_text, Coverage, EvalDocument};
 use keylo::eval::rpe::{rpe, Delta, RpeOptions};
 use keylo::eval::{evaluate, EvalOptions};
 
@@ -60,19 +60,23 @@ pub fn run(args: EvalArgs) -> Result<ExitCode> {
         print_delta_rpe(&opts, delta, &est, &gt)?;
     }
     if args.json {
-        print_json(&acc, label, &coverage)?;
+        print_json(&acc, &label, &coverage)?;
     }
     Ok(ExitCode::SUCCESS)
 }
 
 /// The accuracy as JSON, with the reference's label and the association figures added.
-fn print_json(acc: &keylo::eval::Accuracy, label: String, coverage: &Coverage) -> Result<()> {
-    let mut doc = serde_json::to_value(acc)?;
-    if let Some(map) = doc.as_object_mut() {
-        map.insert("reference_label".into(), label.into());
-        map.insert("association".into(), serde_json::to_value(coverage)?);
-    }
-    println!("{}", serde_json::to_string_pretty(&doc)?);
+fn print_json(acc: &keylo::eval::Accuracy, label: &str, coverage: &Coverage) -> Result<()> {
+    let doc = EvalDocument {
+        accuracy: acc,
+        reference_label: label,
+        association: coverage,
+    };
+    // Through a `Value`, so the keys come out sorted as they always have.
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&serde_json::to_value(&doc)?)?
+    );
     Ok(())
 }
 
@@ -82,16 +86,14 @@ fn print_coverage(c: &Coverage) {
     if !c.is_low() {
         return;
     }
-    let range =
-        |r: Option<keylo::eval::coverage::TimeRange>| r.map_or("none".into(), |r| r.to_string());
     println!("    (fewer than 90 %: see the warning on stderr)");
     println!(
         "  estimate times (s)           {}",
-        range(c.estimate_range_s)
+        range_text(c.estimate_range_s)
     );
     println!(
         "  reference times (s)          {}",
-        range(c.reference_range_s)
+        range_text(c.reference_range_s)
     );
 }
 

@@ -101,11 +101,8 @@ fn warn_poor_association(
     gt: &trajectories::Labelled,
     map: keylo::eval::stamp_map::StampMap,
 ) {
-    use keylo::eval::associate::{associate, AssociateOptions};
-    let opts = AssociateOptions::default();
-    let pairs = associate(&gt.trajectory, est, &opts).ok();
-    let coverage =
-        keylo::eval::coverage::coverage_of(est, &gt.trajectory, pairs.as_ref(), opts.max_diff);
+    let opts = keylo::eval::associate::AssociateOptions::default();
+    let coverage = keylo::eval::coverage::of_pairing(est, &gt.trajectory, &opts);
     if coverage.is_low() {
         let text = crate::reference_args::warning(&coverage, &gt.label, map);
         // Shown even with -q, as a missing accuracy is: the figures would mislead.

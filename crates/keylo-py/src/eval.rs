@@ -131,19 +131,17 @@ pub fn evaluate<'py>(
             evaluate_rs(et, gtr, &opts).map(|acc| (acc, coverage))
         })
         .map_err(|err| DataError::new_err(err.to_string()))?;
-    // `keylo eval --json`'s document: the figures, the reference's name, the association.
-    let mut doc = serde_json::to_value(&acc).map_err(|err| KeyloError::new_err(err.to_string()))?;
-    if let Some(map) = doc.as_object_mut() {
-        // As `keylo eval` names it: the file's name (an array is "gt").
-        let label = gt
-            .extract::<PathBuf>()
-            .ok()
-            .and_then(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
-            .unwrap_or_else(|| g.label.clone());
-        map.insert("reference_label".into(), label.into());
-        let c =
-            serde_json::to_value(&coverage).map_err(|err| KeyloError::new_err(err.to_string()))?;
-        map.insert("association".into(), c);
-    }
-    py.import("json")?.call_method1("loads", (doc.to_string(),))
+    // As `keylo eval` names the reference: the file's name (an array is "gt").
+    let label = gt
+        .extract::<PathBuf>()
+        .ok()
+        .and_then(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .unwrap_or_else(|| g.label.clone());
+    let doc = keylo::eval::coverage::EvalDocument {
+        accuracy: &acc,
+        reference_label: &label,
+        association: &coverage,
+    };
+    let json = serde_json::to_string(&doc).map_err(|err| KeyloError::new_err(err.to_string()))?;
+    py.import("json")?.call_method1("loads", (json,))
 }

@@ -2,8 +2,8 @@
 //! 90 % were: in the row (`associated`, the reason of its verdict), once per data set on
 //! stderr, and under compare.md's tables.
 
-use keylo::eval::associate::{associate, AssociateOptions};
-use keylo::eval::coverage::{coverage_of, Coverage};
+use keylo::eval::associate::AssociateOptions;
+use keylo::eval::coverage::{of_pairing, Coverage};
 use keylo::Trajectory;
 
 use super::metrics::{Criterion, Row};
@@ -16,8 +16,7 @@ pub fn measure(plan: &Planned, est: &Trajectory, gt: &Trajectory, crit: &Criteri
         max_diff: crit.t_max_diff_s,
         ..AssociateOptions::default()
     };
-    let pairs = associate(gt, est, &opts).ok();
-    let coverage = coverage_of(est, gt, pairs.as_ref(), crit.t_max_diff_s);
+    let coverage = of_pairing(est, gt, &opts);
     row.associated = Some(coverage.ratio());
     if coverage.is_low() {
         row.association_warning = Some(crate::reference_args::warning(

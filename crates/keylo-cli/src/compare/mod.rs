@@ -311,7 +311,7 @@ fn variant_label(stem: &str, grid: &str, many_configs: bool) -> String {
 }
 
 /// A folder name: letters, digits, `.`, `-`, `_`, `=`; anything else becomes `_`.
-fn slug(text: &str) -> String {
+pub(crate) fn slug(text: &str) -> String {
     text.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || ".-_=".contains(c) {

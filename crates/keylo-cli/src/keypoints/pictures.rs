@@ -13,17 +13,7 @@ pub fn write(out: &Path, pictured: &[Pictured]) -> Result<usize> {
     let dir = out.join("images");
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     for p in pictured {
-        let name: String = p
-            .detector
-            .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '-' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect();
+        let name = crate::compare::slug(&p.detector);
         draw_image(&p.image, &p.keypoints, None)
             .write_png(&dir.join(format!("{name}_{:05}.png", p.index)))?;
     }

@@ -29,6 +29,9 @@ pub struct FrameOverlay<'a> {
     pub selected_pixels: Option<&'a [usize]>,
     /// The cloud the downsampler gave the registrar.
     pub cloud: Option<&'a PointCloud>,
+    /// Every point of the frame (`LidarFrame::to_cloud`), made once for the top view and
+    /// the PLY.
+    pub raw: &'a PointCloud,
 }
 
 /// One frame's pictures, as listed in `images/pictures.json`.
@@ -106,7 +109,7 @@ pub fn write(dir: &Path, o: &FrameOverlay) -> Result<Pictured> {
             });
         }
     }
-    let raw = o.frame.to_cloud();
+    let raw = o.raw;
     let selected = o.cloud.map_or(&[][..], |c| &c.points[..]);
     let top = draw_top(&raw.points, selected);
     Ok(Pictured {
@@ -130,11 +133,7 @@ pub fn write_clouds(dir: &Path, o: &FrameOverlay) -> Result<[String; 2]> {
     let names = [format!("{stem}_raw.ply"), format!("{stem}_selected.ply")];
     let (raw_path, sel_path) = (dir.join(&names[0]), dir.join(&names[1]));
     let what = format!("frame {} of keylo run", o.frame.index);
-    crate::cloud_ply::write(
-        &raw_path,
-        &o.frame.to_cloud().points,
-        &format!("raw {what}"),
-    )?;
+    crate::cloud_ply::write(&raw_path, &o.raw.points, &format!("raw {what}"))?;
     let selected = o.cloud.map_or(&[][..], |c| &c.points[..]);
     crate::cloud_ply::write(&sel_path, selected, &format!("registered points, {what}"))?;
     Ok(names)

@@ -43,11 +43,13 @@ impl Pictures {
         frame: &LidarFrame,
         features: &FrameFeatures,
     ) -> Result<()> {
+        let raw = frame.to_cloud();
         let overlay = FrameOverlay {
             frame,
             features,
             selected_pixels: odometry.downsampler.selected_pixels(),
             cloud: odometry.last_cloud(),
+            raw: &raw,
         };
         let mut pictured = super::write(&self.dir, &overlay)?;
         if !self.clouds_written && overlay.cloud.is_some_and(|c| !c.is_empty()) {

@@ -37,11 +37,13 @@ impl Single {
             .odometry
             .process_with_features(frame)
             .with_context(|| format!("frame {}", frame.index))?;
+        let raw = frame.to_cloud();
         let overlay = FrameOverlay {
             frame,
             features: &features,
             selected_pixels: self.odometry.downsampler.selected_pixels(),
             cloud: self.odometry.last_cloud(),
+            raw: &raw,
         };
         let pictured = super::write(out, &overlay)?;
         let clouds = super::write_clouds(out, &overlay)?;

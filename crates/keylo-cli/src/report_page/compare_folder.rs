@@ -107,9 +107,7 @@ fn runs_by_data(dir: &Path) -> Vec<(String, Vec<PathBuf>)> {
 /// The reference's name in a run's summary.json (its file name), if it had one.
 fn reference_label(run: &Path) -> Option<String> {
     let text = std::fs::read_to_string(run.join("summary.json")).ok()?;
-    let summary: serde_json::Value = serde_json::from_str(&text).ok()?;
-    let path = summary.get("ground_truth")?.as_str()?;
-    Some(file_label(Path::new(path)))
+    run_parts::reference_label(&serde_json::from_str(&text).ok()?)
 }
 
 /// The first run's local map and reference, then every run's trajectory, on one data.

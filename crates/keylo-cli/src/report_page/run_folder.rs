@@ -43,12 +43,7 @@ pub fn page(dir: &Path, limits: Limits) -> Result<Page> {
         .map(|w| format!("<p class=\"warn\">Reference timing: {}</p>", escape(w)))
         .unwrap_or_default();
     page.section("Summary", format!("{warning}{headline}"));
-    let reference = summary
-        .get("ground_truth")
-        .and_then(|v| v.as_str())
-        .map_or("reference".into(), |p| {
-            crate::reference_args::file_label(Path::new(p))
-        });
+    let reference = run_parts::reference_label(&summary).unwrap_or_else(|| "reference".into());
     let mut notes = Notes::new();
     let mut view = String::new();
     match run_parts::map_scene(dir, &reference, limits, &mut notes) {

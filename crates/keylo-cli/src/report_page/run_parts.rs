@@ -122,13 +122,17 @@ fn number(n: &serde_json::Number) -> String {
 pub fn positions(path: &Path) -> Result<Vec<[f32; 3]>> {
     let t = keylo::io::trajectory::read_tum(path)
         .with_context(|| format!("reading {}", path.display()))?;
-    Ok(t.poses
+    let points = keylo::eval::align::positions(&t);
+    Ok(points
         .iter()
-        .map(|p| {
-            let v = p.translation.vector;
-            [v.x as f32, v.y as f32, v.z as f32]
-        })
+        .map(|p| [p.x as f32, p.y as f32, p.z as f32])
         .collect())
+}
+
+/// The reference's name in a run's summary (the file name of its `ground_truth`).
+pub fn reference_label(summary: &Value) -> Option<String> {
+    let path = summary.get("ground_truth")?.as_str()?;
+    Some(crate::reference_args::file_label(Path::new(path)))
 }
 
 /// The final local map, the estimated trajectory and (when the run had one) the aligned

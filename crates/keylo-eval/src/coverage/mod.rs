@@ -79,21 +79,41 @@ pub fn coverage_of(
     coverage(&estimate.stamps, &reference.stamps, associated, max_diff)
 }
 
+/// [`coverage_of`] with the pairs [`crate::associate::associate`] makes under `opts`.
+pub fn of_pairing(
+    estimate: &Trajectory,
+    reference: &Trajectory,
+    opts: &crate::associate::AssociateOptions,
+) -> Coverage {
+    let pairs = crate::associate::associate(reference, estimate, opts).ok();
+    coverage_of(estimate, reference, pairs.as_ref(), opts.max_diff)
+}
+
 /// [`coverage_of`] with the pairs [`crate::evaluate`] makes under `opts`.
 pub fn of_evaluation(
     estimate: &Trajectory,
     reference: &Trajectory,
     opts: &crate::EvalOptions,
 ) -> Coverage {
-    let pairs = crate::associate::associate_labeled(
-        reference,
-        &opts.reference_label,
-        estimate,
-        &opts.estimate_label,
-        &opts.associate,
-    )
-    .ok();
-    coverage_of(estimate, reference, pairs.as_ref(), opts.associate.max_diff)
+    of_pairing(estimate, reference, &opts.associate)
+}
+
+/// `keylo eval --json`'s document (also `keylo.evaluate`'s dict): the figures, the
+/// reference's name and the association.
+#[derive(Debug, Serialize)]
+pub struct EvalDocument<'a> {
+    /// The figures, at the document's top level.
+    #[serde(flatten)]
+    pub accuracy: &'a crate::Accuracy,
+    /// The reference's name (`--gt-label`, else its file name).
+    pub reference_label: &'a str,
+    /// How many estimated poses paired with the reference, and why not more.
+    pub association: &'a Coverage,
+}
+
+/// A time range for messages, `none` when there is none.
+pub fn range_text(r: Option<TimeRange>) -> String {
+    r.map_or("none".into(), |r| r.to_string())
 }
 
 impl Coverage {
@@ -111,7 +131,6 @@ impl Coverage {
     /// poses (10 %) associate with gt.tum (estimate times 0.000 … 15.300 s, gt.tum times
     /// 0.000 … 153.000 s)".
     pub fn describe(&self, reference: &str) -> String {
-        let range = |r: Option<TimeRange>| r.map_or("none".into(), |r| r.to_string());
         format!(
             "{}{} of {} estimated poses ({:.0} %) associate with {reference} (estimate times \
              {} s, {reference} times {} s)",
@@ -120,8 +139,8 @@ impl Coverage {
             self.estimated,
             // Floored: 89.6 % must not read "90 %" under a 90 % threshold.
             (100.0 * self.fraction).floor(),
-            range(self.estimate_range_s),
-            range(self.reference_range_s),
+            range_text(self.estimate_range_s),
+            range_text(self.reference_range_s),
         )
     }
 }
