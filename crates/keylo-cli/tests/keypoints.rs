@@ -110,12 +110,37 @@ fn eval_writes_tables_json_and_plots_and_compares_with_the_paper() {
             paper.to_str().unwrap(),
             "--jobs",
             "2",
+            "--images",
+            "2",
         ],
         tmp.path(),
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = read_csv(&out.join("per_image.csv"));
     assert_eq!(rows.len(), 4 * 3);
+    // --images 2: each detector on images 0 and 2, as evaluated (512×64, drawn twice as
+    // large), with red keypoint dots.
+    for name in [
+        "SHITOMASI_00000",
+        "SHITOMASI_00002",
+        "FAST_00000",
+        "FAST_00002",
+    ] {
+        let path = out.join(format!("images/{name}.png"));
+        let file = std::fs::File::open(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+            .read_info()
+            .unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        assert_eq!((info.width, info.height), (1024, 128), "{name}");
+        let red = buf[..info.buffer_size()]
+            .chunks(3)
+            .filter(|p| p == &[255, 40, 40])
+            .count();
+        assert!(red >= 9, "{name}: no keypoint drawn");
+    }
+    assert!(!out.join("images/SHITOMASI_00001.png").exists());
     assert!(rows
         .iter()
         .all(|r| r["width"] == "512" && r["height"] == "64"));
