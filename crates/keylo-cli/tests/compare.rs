@@ -447,6 +447,24 @@ fn same_budget_adds_random_and_voxel_baselines_with_the_keypoint_point_count() {
     // `random` keeps exactly the windows' count each frame; `voxel-budget` at most that many.
     assert_eq!(points(random), points(keypoints));
     assert!(points(voxel) <= points(keypoints) && points(voxel) > 0.8 * points(keypoints));
+    // Every pose is stamped at its frame's end, whichever points were registered: the four
+    // runs' trajectories have the raw run's stamps, so each pairs with the reference alike.
+    let stamps = |variant: &str| -> Vec<String> {
+        let tum = out.join("runs/lab").join(variant).join("trajectory.tum");
+        let text = std::fs::read_to_string(&tum).unwrap_or_else(|e| panic!("{tum:?}: {e}"));
+        text.lines()
+            .map(|l| l.split_whitespace().next().unwrap_or("").to_string())
+            .collect()
+    };
+    let raw = stamps("raw-kiss-icp");
+    assert_eq!(raw.len(), 5);
+    for v in [
+        "indoor-akaze-kiss-icp",
+        "indoor-akaze-kiss-icp__random",
+        "indoor-akaze-kiss-icp__voxel-budget",
+    ] {
+        assert_eq!(stamps(v), raw, "{v}");
+    }
 }
 
 #[test]

@@ -179,6 +179,25 @@ impl LidarFrame {
         }
     }
 
+    /// The time a pose of this frame refers to: `timestamp` plus the latest firing time of
+    /// the frame's points (every scan point of an unorganised frame, else every valid finite
+    /// pixel), i.e. the scan's end. It does not depend on which points a downsampler keeps,
+    /// so a keypoint cloud's pose carries the same stamp as the raw cloud's. `timestamp` when
+    /// the points have no times.
+    pub fn end_stamp(&self) -> f64 {
+        let latest = match &self.scan {
+            Some(scan) => scan
+                .times
+                .as_ref()
+                .and_then(|t| t.iter().copied().reduce(f64::max)),
+            None => (0..self.rows * self.cols)
+                .filter(|&i| self.valid[i] && self.points[i].coords.iter().all(|v| v.is_finite()))
+                .map(|i| self.pixel_time(i) - self.timestamp)
+                .reduce(f64::max),
+        };
+        self.timestamp + latest.unwrap_or(0.0)
+    }
+
     /// Number of valid pixels.
     pub fn valid_count(&self) -> usize {
         self.valid.iter().filter(|v| **v).count()
@@ -355,6 +374,45 @@ mod tests {
         let t = c.times.as_ref().map(|t| t[0]).unwrap_or(f64::NAN);
         assert!((t - 0.05).abs() < 1e-9);
         assert!(f.check_shape().is_ok());
+    }
+
+    #[test]
+    fn end_stamp_is_the_latest_valid_finite_point_whatever_is_kept() {
+        let mut f = LidarFrame::empty(0, 10.0, 2, 3, beams());
+        f.column_times = vec![10.0, 10.05, 10.1];
+        assert_eq!(f.end_stamp(), 10.0, "no point: the frame's timestamp");
+        for i in [0, 1, 3] {
+            f.valid[i] = true;
+            f.points[i] = Point3::new(1.0, 0.0, 0.0);
+        }
+        // Column 2 is invalid in row 0 and non-finite in row 1: not the end.
+        f.valid[5] = true;
+        f.points[5] = Point3::new(f32::NAN, 0.0, 0.0);
+        assert_eq!(f.end_stamp(), 10.0 + (10.05 - 10.0));
+        // The same as the whole cloud's latest time, and as a pose of a cloud of one early
+        // pixel would be stamped.
+        let whole = f.to_cloud();
+        let latest = whole
+            .times
+            .as_ref()
+            .and_then(|t| t.iter().copied().reduce(f64::max));
+        assert_eq!(Some(f.end_stamp()), latest.map(|t| whole.timestamp + t));
+        f.pixel_times = Some(vec![10.0, 10.02, 10.1, 10.07, 10.09, 10.1]);
+        assert_eq!(f.end_stamp(), 10.0 + (10.07 - 10.0));
+        f.scan = Some(Arc::new(ScanPoints {
+            points: vec![Point3::new(1.0, 0.0, 0.0); 2],
+            times: Some(vec![0.01, 0.093]),
+            intensity: None,
+            ring: None,
+            source_index: vec![0, 1],
+            pixel: vec![0, 1],
+            pixel_to_point: vec![0, 1, ScanPoints::NONE, ScanPoints::NONE, 1, 1],
+        }));
+        assert_eq!(
+            f.end_stamp(),
+            10.093,
+            "an unorganised frame: its scan's times"
+        );
     }
 
     #[test]

@@ -38,7 +38,8 @@ impl StageTimings {
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrameResult {
     pub index: u64,
-    /// Time the pose refers to, seconds.
+    /// Time the pose refers to, seconds: the frame's end ([`LidarFrame::end_stamp`]), the same
+    /// whichever points the downsampler kept.
     pub stamp: f64,
     pub pose: Pose,
     /// Keypoints found over all images.
@@ -245,7 +246,7 @@ impl Odometry {
         self.last_timestamp = Some(frame.timestamp);
         let result = FrameResult {
             index: frame.index,
-            stamp: reg.stamp,
+            stamp: frame.end_stamp(),
             pose: reg.pose,
             keypoints: features.keypoint_count(),
             cloud_points,
