@@ -191,11 +191,17 @@ impl LidarFrame {
                 .as_ref()
                 .and_then(|t| t.iter().copied().reduce(f64::max)),
             None => (0..self.rows * self.cols)
-                .filter(|&i| self.valid[i] && self.points[i].coords.iter().all(|v| v.is_finite()))
+                .filter(|&i| self.has_point(i))
                 .map(|i| self.pixel_time(i) - self.timestamp)
                 .reduce(f64::max),
         };
         self.timestamp + latest.unwrap_or(0.0)
+    }
+
+    /// Whether pixel `i` (row-major) gives a point: valid, with finite coordinates.
+    #[inline]
+    fn has_point(&self, i: usize) -> bool {
+        self.valid[i] && self.points[i].coords.iter().all(|v| v.is_finite())
     }
 
     /// Number of valid pixels.
@@ -284,10 +290,7 @@ impl LidarFrame {
     pub fn count_selected(&self, pixels: &[usize], mode: PixelPoints) -> usize {
         match (&self.scan, mode) {
             (Some(scan), PixelPoints::All) => scan.count_in(&self.pixel_mask(pixels)),
-            _ => pixels
-                .iter()
-                .filter(|&&i| self.valid[i] && self.points[i].coords.iter().all(|v| v.is_finite()))
-                .count(),
+            _ => pixels.iter().filter(|&&i| self.has_point(i)).count(),
         }
     }
 
@@ -329,11 +332,10 @@ impl LidarFrame {
         let mut times = Vec::new();
         let mut intensities = Vec::new();
         for i in pixels {
-            let p = self.points[i];
-            if !self.valid[i] || !p.coords.iter().all(|v| v.is_finite()) {
+            if !self.has_point(i) {
                 continue;
             }
-            points.push(p.cast::<f64>());
+            points.push(self.points[i].cast::<f64>());
             times.push(self.pixel_time(i) - self.timestamp);
             intensities.push(self.signal[i]);
         }

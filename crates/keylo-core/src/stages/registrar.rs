@@ -5,6 +5,9 @@ use crate::{CoreError, Degeneracy, FrameKeypoints, PointCloud, Pose};
 pub struct Registration {
     /// Time the pose refers to, seconds: the instant the registrar deskews the scan to
     /// (KISS-ICP: the end of the scan; the scan start when the cloud has no per-point times).
+    /// [`crate::Odometry`] does not use it: its results are stamped at the frame's end
+    /// ([`crate::LidarFrame::end_stamp`]), which does not depend on the points a downsampler
+    /// kept and which a registrar, seeing only the cloud, cannot know.
     pub stamp: f64,
     /// Pose of the sensor at `stamp` in the world (first-frame) frame.
     pub pose: Pose,
