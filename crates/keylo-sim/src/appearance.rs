@@ -20,6 +20,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::noise::{hash_words, unit};
+use crate::partial_drops::PartialDrops;
 
 /// Which image effects the simulator adds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, JsonSchema)]
@@ -90,12 +91,39 @@ const NOISE_FACTOR: f64 = 200.0;
 /// empty pixels (0.1 % are 0), so most of the weak real returns are dim, not lost.
 const DROPOUT_COUNTS: f64 = 15.0;
 
+/// Partial drops, as the TIERS images show them (`scripts/sim/partial_drops.py`: 40 still
+/// images, each pixel against its median over them). Pixels below half their median, by
+/// median grey level g (`counts / 256`): 1.01 % at 40–80, 0.92 % at 80–120, 0.20 % at
+/// 120–160, 0.14 % above (the lab with these constants: 1.18, 0.89, 0.30, 0.05 %); more on the
+/// near floor (the last eighth of the rows: 4.7 %; not modelled). Runs along a row: 78 % one
+/// pixel long, 15 % two, 4 % three (the lab: 78, 14, 4 %). A dropped pixel reads 0.14 / 0.28 /
+/// 0.38 of its median (10th / 50th / 90th percentile). The OS0-128 capture of
+/// `../shared/data/ouster` (firmware 3.0.1, 1024 columns) shows none: 0 of 22 911 pixel pairs
+/// of its two consecutive frames differ by a factor of two. 25 600 counts is g = 100.
+const PARTIAL_DROPS: PartialDrops = PartialDrops {
+    rate: 0.01,
+    reference: 25_600.0,
+    exponent: 4.5,
+    max_rate: 0.01,
+    continue_prob: 0.25,
+    low: 0.1,
+    high: 0.5,
+};
+
 impl Appearance {
     /// Model signal at which returns drop out one time in two (0: never).
     pub fn dropout_counts(self) -> f64 {
         match self {
             Self::Ideal => 0.0,
             Self::Ouster => DROPOUT_COUNTS,
+        }
+    }
+
+    /// Returns measured far too low at random (`None` for `ideal`).
+    pub fn partial_drops(self) -> Option<PartialDrops> {
+        match self {
+            Self::Ideal => None,
+            Self::Ouster => Some(PARTIAL_DROPS),
         }
     }
 

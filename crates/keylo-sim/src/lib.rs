@@ -22,6 +22,7 @@ pub mod config;
 pub mod error;
 pub mod motion;
 pub mod noise;
+pub mod partial_drops;
 mod render;
 pub mod scenes;
 pub mod sensor;

@@ -30,14 +30,25 @@ pub fn unit(h: u64) -> f32 {
 #[derive(Debug, Clone)]
 pub struct PixelRng {
     state: u64,
+    /// `(seed, frame, row, col)` of the pixel.
+    key: [u64; 4],
 }
 
 impl PixelRng {
     /// The stream of pixel `(row, col)` of frame `frame` under `seed`.
     pub fn for_pixel(seed: u64, frame: u64, row: usize, col: usize) -> Self {
+        let key = [seed, frame, row as u64, col as u64];
         Self {
             state: hash_words(&[seed, 0x5EED_F4A3, frame, row as u64, col as u64]),
+            key,
         }
+    }
+
+    /// A hash of the pixel `back` columns to the left in the same row and frame, under
+    /// `salt` (independent of this stream's draws): for events that span several columns.
+    pub fn along_row(&self, back: u64, salt: u64) -> u64 {
+        let [seed, frame, row, col] = self.key;
+        hash_words(&[seed, salt, frame, row, col.wrapping_sub(back)])
     }
 
     /// A uniform draw in `[0, 1)`.

@@ -14,6 +14,7 @@ use parry3d::math::Vector as GVec;
 
 use crate::appearance::BeamResponse;
 use crate::noise::PixelRng;
+use crate::partial_drops::PartialDrops;
 use crate::scenes::Ambient;
 use crate::world::Hit;
 
@@ -76,6 +77,8 @@ pub struct Shading {
     /// signal is `s` counts drops out with probability `1 / (1 + (s / dropout_counts)²)`
     /// (0: never).
     pub dropout_counts: f64,
+    /// Returns measured far too low at random (see [`PartialDrops`]); `None`: never.
+    pub partial_drops: Option<PartialDrops>,
 }
 
 impl Shading {
@@ -116,7 +119,11 @@ impl Shading {
         } else {
             1.0
         };
-        let signal = counts(beam.at(r_true) * near * model, self.noise_factor);
+        let mean = beam.at(r_true) * near * model;
+        let mut signal = counts(mean, self.noise_factor);
+        if let Some(drops) = &self.partial_drops {
+            signal *= drops.factor(mean, rng);
+        }
         let refl_noise = 0.5 * rng.gaussian() / (signal + 1.0).sqrt();
         let valid =
             model_signal >= MIN_SIGNAL && range >= self.min_range_m && range <= self.max_range_m;
@@ -195,6 +202,7 @@ mod tests {
             near_field_m: 0.0,
             noise_factor: 1.0,
             dropout_counts: 0.0,
+            partial_drops: None,
         }
     }
 

@@ -47,6 +47,7 @@ impl Simulator {
             near_field_m: config.appearance.near_field_m(),
             noise_factor: config.appearance.noise_factor(),
             dropout_counts: config.appearance.dropout_counts(),
+            partial_drops: config.appearance.partial_drops(),
         };
         let mut sim = Self {
             config: config.clone(),
