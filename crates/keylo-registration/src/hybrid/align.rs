@@ -12,6 +12,7 @@ use super::plane_terms::{plane_system, NormalCache};
 use super::step::{self, StepProblem, StepSolver};
 use crate::degeneracy::scaling;
 use crate::kiss_icp::icp::{build_system, IcpSettings};
+use crate::kiss_icp::neighbours::NeighbourCache;
 use crate::kiss_icp::voxel_map::VoxelHashMap;
 use crate::se3;
 
@@ -108,6 +109,7 @@ pub fn align(
     // claims "no motion" and is far off the cloud's pose.
     let mut verified = (s.keypoint_gate <= 0.0 || pairs.is_empty()).then_some(Cow::Borrowed(pairs));
     let no_pairs = Cow::Owned(Correspondences::default());
+    let mut around = NeighbourCache::default();
     for iteration in 1..=s.icp.max_iterations {
         let pose = correction * guess;
         let a = about(&pose.translation.vector);
@@ -115,7 +117,7 @@ pub fn align(
         let cloud = if s.point_to_plane {
             plane_system(scratch, map, &s.icp, normals)
         } else {
-            build_system(scratch, map, &s.icp)
+            build_system(scratch, map, &s.icp, &mut around)
         };
         let (hk, gk, inliers) = keypoint_system(in_use, &pose, s.keypoint_kernel);
         result.iterations = iteration;

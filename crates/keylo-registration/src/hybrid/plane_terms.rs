@@ -262,7 +262,12 @@ mod tests {
         // Along x (the axis) the information is far below that across the walls (y); the
         // point-to-point terms of upstream have as much along x as along y.
         assert!(sys.jtj[(0, 0)] < 1e-2 * sys.jtj[(1, 1)], "{}", sys.jtj);
-        let p2p = crate::kiss_icp::icp::build_system(&shifted, &map, &settings());
+        let p2p = crate::kiss_icp::icp::build_system(
+            &shifted,
+            &map,
+            &settings(),
+            &mut crate::kiss_icp::neighbours::NeighbourCache::default(),
+        );
         assert!(p2p.jtj[(0, 0)] > 0.5 * p2p.jtj[(1, 1)], "{}", p2p.jtj);
         // The step pulls back across the corridor and not along it.
         let h = sys.jtj.fixed_view::<3, 3>(1, 1).into_owned();

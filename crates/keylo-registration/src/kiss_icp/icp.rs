@@ -6,6 +6,7 @@
 use nalgebra::{Isometry3, Matrix6, Point3, Vector6};
 use rayon::prelude::*;
 
+use super::neighbours::{Around, NeighbourCache};
 use super::voxel_map::VoxelHashMap;
 use crate::se3;
 
@@ -78,8 +79,9 @@ pub fn align(
     scratch.clear();
     scratch.extend(frame.iter().map(|p| initial_guess * p));
     let mut t_icp = Isometry3::identity();
+    let mut around = NeighbourCache::for_points(scratch.len());
     for iteration in 1..=settings.max_iterations {
-        let system = build_system(scratch, map, settings);
+        let system = build_system(scratch, map, settings, &mut around);
         result.iterations = iteration;
         result.correspondences = system.count;
         let Some(dx) = solve(&system) else { break };
@@ -101,22 +103,37 @@ pub fn align(
 }
 
 /// The system of every point of `source` (world frame) with a map neighbour closer than
-/// `s.max_distance`, Geman–McClure weighted with scale `s.kernel`.
-pub(crate) fn build_system(source: &[Point3<f64>], map: &VoxelHashMap, s: &IcpSettings) -> System {
+/// `s.max_distance`, Geman–McClure weighted with scale `s.kernel`. `around` keeps each
+/// point's map blocks between calls of one alignment (it has one entry per source point).
+pub(crate) fn build_system<'m>(
+    source: &[Point3<f64>],
+    map: &'m VoxelHashMap,
+    s: &IcpSettings,
+    around: &mut NeighbourCache<'m>,
+) -> System {
+    if around.points.len() != source.len() {
+        *around = NeighbourCache::for_points(source.len());
+    }
     let partials: Vec<System> = source
         .par_chunks(CHUNK)
-        .map(|chunk| chunk_system(chunk, map, s))
+        .zip(around.points.par_chunks_mut(CHUNK))
+        .map(|(chunk, around)| chunk_system(chunk, around, map, s))
         .collect();
     partials.iter().fold(System::zero(), System::add)
 }
 
-fn chunk_system(chunk: &[Point3<f64>], map: &VoxelHashMap, s: &IcpSettings) -> System {
+fn chunk_system<'m>(
+    chunk: &[Point3<f64>],
+    around: &mut [Around<'m>],
+    map: &'m VoxelHashMap,
+    s: &IcpSettings,
+) -> System {
     let mut sys = System::zero();
     let kappa2 = s.kernel * s.kernel;
-    for p in chunk {
+    for (p, around) in chunk.iter().zip(around) {
         // Voxels that cannot hold a point closer than the threshold are not searched; the
         // correspondences are the ones upstream's full search followed by the threshold gives.
-        let Some((q, _)) = map.closest_neighbour_within(p, s.max_distance) else {
+        let Some((q, _)) = around.closest(map, p, s.max_distance) else {
             continue;
         };
         let r = p - q;

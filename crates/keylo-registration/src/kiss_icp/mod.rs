@@ -3,6 +3,7 @@
 
 pub mod deskew;
 pub mod icp;
+pub(crate) mod neighbours;
 pub mod threshold;
 pub mod voxel_map;
 

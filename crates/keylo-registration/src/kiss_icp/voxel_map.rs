@@ -65,6 +65,39 @@ fn gap2(d: &Voxel, f: &Faces) -> f64 {
     g
 }
 
+/// The nearest point found so far, closer than a bound.
+struct Nearest {
+    best: Option<Point3<f64>>,
+    d2: f64,
+}
+
+impl Nearest {
+    #[inline]
+    fn within(max_distance: f64) -> Self {
+        Self {
+            best: None,
+            d2: max_distance * max_distance,
+        }
+    }
+
+    /// Keeps the first of `points` strictly nearer `query` than the best so far.
+    #[inline]
+    fn scan(&mut self, points: &[Point3<f64>], query: &Point3<f64>) {
+        for p in points {
+            let d2 = (p - query).norm_squared();
+            if d2 < self.d2 {
+                self.best = Some(*p);
+                self.d2 = d2;
+            }
+        }
+    }
+
+    #[inline]
+    fn found(&self) -> Option<(Point3<f64>, f64)> {
+        self.best.map(|p| (p, self.d2.sqrt()))
+    }
+}
+
 #[derive(Debug, Clone)]
 struct Block {
     points: Vec<Point3<f64>>,
@@ -157,24 +190,53 @@ impl VoxelHashMap {
         max_distance: f64,
     ) -> Option<(Point3<f64>, f64)> {
         let (v, faces) = self.faces(query);
-        let mut best: Option<Point3<f64>> = None;
-        let mut best_d2 = max_distance * max_distance;
+        let mut nearest = Nearest::within(max_distance);
         for d in NEIGHBOURS {
-            if gap2(&d, &faces) >= best_d2 {
+            if gap2(&d, &faces) >= nearest.d2 {
                 continue;
             }
-            let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
-                continue;
-            };
-            for p in &block.points {
-                let d2 = (p - query).norm_squared();
-                if d2 < best_d2 {
-                    best = Some(*p);
-                    best_d2 = d2;
-                }
+            if let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) {
+                nearest.scan(&block.points, query);
             }
         }
-        best.map(|p| (p, best_d2.sqrt()))
+        nearest.found()
+    }
+
+    /// What [`VoxelHashMap::closest_neighbour_within`] returns, searching `around`, the blocks
+    /// of [`VoxelHashMap::blocks_around`] for `query`'s voxel, instead of looking them up:
+    /// the same blocks in the same order, so the same answer.
+    #[inline]
+    pub(crate) fn closest_among(
+        &self,
+        query: &Point3<f64>,
+        around: &[(u8, &[Point3<f64>])],
+        max_distance: f64,
+    ) -> Option<(Point3<f64>, f64)> {
+        let (_, faces) = self.faces(query);
+        let mut nearest = Nearest::within(max_distance);
+        for &(k, points) in around {
+            if gap2(&NEIGHBOURS[usize::from(k)], &faces) < nearest.d2 {
+                nearest.scan(points, query);
+            }
+        }
+        nearest.found()
+    }
+
+    /// Replaces `out` with the points of every map voxel among the 27 around voxel `v` that
+    /// holds any, with its index in [`NEIGHBOURS`], in that order.
+    pub(crate) fn blocks_around<'m>(&'m self, v: Voxel, out: &mut Vec<(u8, &'m [Point3<f64>])>) {
+        out.clear();
+        for (k, d) in (0u8..).zip(NEIGHBOURS) {
+            if let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) {
+                out.push((k, &block.points));
+            }
+        }
+    }
+
+    /// The voxel of `query` in this map.
+    #[inline]
+    pub(crate) fn voxel(&self, query: &Point3<f64>) -> Voxel {
+        voxel_of(query, self.voxel_size)
     }
 
     /// The voxel edge (m).
