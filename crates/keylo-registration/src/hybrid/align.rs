@@ -115,7 +115,7 @@ pub fn align(
         let a = about(&pose.translation.vector);
         let in_use = verified.as_ref().unwrap_or(&no_pairs);
         let cloud = if s.point_to_plane {
-            plane_system(scratch, map, &s.icp, normals)
+            plane_system(scratch, map, &s.icp, normals, &mut around)
         } else {
             build_system(scratch, map, &s.icp, &mut around)
         };

@@ -19,6 +19,7 @@ use rayon::prelude::*;
 
 use crate::degeneracy::{normals_of, plane_information_with, PlaneInformation};
 use crate::kiss_icp::icp::{IcpSettings, System};
+use crate::kiss_icp::neighbours::NeighbourCache;
 use crate::kiss_icp::voxel_map::{VoxelHashMap, NEIGHBOURS};
 
 /// Points per parallel work item; sums are reduced in chunk order (thread-count independent).
@@ -173,20 +174,23 @@ pub(crate) fn plane_information_cached(
 
 /// The normal equations (twist about the world origin, as [`crate::kiss_icp::icp`]) of
 /// `source` (world frame) against `map`, of the points whose nearest neighbour has a normal,
-/// Geman–McClure weights `κ² / (κ + r²)²` as upstream KISS-ICP's.
-pub(crate) fn plane_system(
+/// Geman–McClure weights `κ² / (κ + r²)²` as upstream KISS-ICP's. `around` keeps each
+/// point's map blocks between calls of one alignment, as [`crate::kiss_icp::icp`] does.
+pub(crate) fn plane_system<'m>(
     source: &[Point3<f64>],
-    map: &VoxelHashMap,
+    map: &'m VoxelHashMap,
     s: &IcpSettings,
     cache: &mut NormalCache,
+    around: &mut NeighbourCache<'m>,
 ) -> System {
+    if around.points.len() != source.len() {
+        *around = NeighbourCache::for_points(source.len());
+    }
     let pairs: Vec<Option<Point3<f64>>> = source
         .par_iter()
+        .zip(around.points.par_iter_mut())
         .with_min_len(CHUNK)
-        .map(|p| {
-            map.closest_neighbour_within(p, s.max_distance)
-                .map(|(q, _)| q)
-        })
+        .map(|(p, around)| around.closest(map, p, s.max_distance).map(|(q, _)| q))
         .collect();
     cache.fill(map, pairs.iter().flatten());
     let normals: Vec<Option<Vector3<f64>>> = cache
@@ -257,7 +261,13 @@ mod tests {
             .map(|p| p + Vector3::new(0.3, 0.1, 0.0))
             .collect();
         let mut cache = NormalCache::default();
-        let sys = plane_system(&shifted, &map, &settings(), &mut cache);
+        let sys = plane_system(
+            &shifted,
+            &map,
+            &settings(),
+            &mut cache,
+            &mut NeighbourCache::default(),
+        );
         assert!(sys.count > 5000);
         // Along x (the axis) the information is far below that across the walls (y); the
         // point-to-point terms of upstream have as much along x as along y.
@@ -266,7 +276,7 @@ mod tests {
             &shifted,
             &map,
             &settings(),
-            &mut crate::kiss_icp::neighbours::NeighbourCache::default(),
+            &mut NeighbourCache::default(),
         );
         assert!(p2p.jtj[(0, 0)] > 0.5 * p2p.jtj[(1, 1)], "{}", p2p.jtj);
         // The step pulls back across the corridor and not along it.
@@ -276,7 +286,13 @@ mod tests {
         assert!((dy + 0.1).abs() < 0.02, "step across: {dy}");
         // The cache answers the second iteration without new normals.
         let cached = cache.len();
-        let again = plane_system(&shifted, &map, &settings(), &mut cache);
+        let again = plane_system(
+            &shifted,
+            &map,
+            &settings(),
+            &mut cache,
+            &mut NeighbourCache::default(),
+        );
         assert_eq!(cache.len(), cached);
         assert_eq!(again.jtj, sys.jtj);
     }
