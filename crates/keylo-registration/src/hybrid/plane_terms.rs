@@ -183,15 +183,16 @@ pub(crate) fn plane_system<'m>(
     cache: &mut NormalCache,
     around: &mut NeighbourCache<'m>,
 ) -> System {
-    if around.points.len() != source.len() {
-        *around = NeighbourCache::for_points(source.len());
-    }
-    let pairs: Vec<Option<Point3<f64>>> = source
-        .par_iter()
-        .zip(around.points.par_iter_mut())
-        .with_min_len(CHUNK)
-        .map(|(p, around)| around.closest(map, p, s.max_distance).map(|(q, _)| q))
-        .collect();
+    let mut pairs: Vec<Option<Point3<f64>>> = vec![None; source.len()];
+    pairs
+        .par_chunks_mut(CHUNK)
+        .zip(source.par_chunks(CHUNK))
+        .zip(around.chunks(source.len(), CHUNK).par_iter_mut())
+        .for_each(|((qs, ps), around)| {
+            for (i, (q, p)) in qs.iter_mut().zip(ps).enumerate() {
+                *q = around.closest(i, map, p, s.max_distance).map(|(q, _)| q);
+            }
+        });
     cache.fill(map, pairs.iter().flatten());
     let normals: Vec<Option<Vector3<f64>>> = cache
         .normals_of(&pairs)

@@ -6,7 +6,7 @@
 use nalgebra::{Isometry3, Matrix6, Point3, Vector6};
 use rayon::prelude::*;
 
-use super::neighbours::{Around, NeighbourCache};
+use super::neighbours::{ChunkAround, NeighbourCache};
 use super::voxel_map::VoxelHashMap;
 use crate::se3;
 
@@ -79,7 +79,7 @@ pub fn align(
     scratch.clear();
     scratch.extend(frame.iter().map(|p| initial_guess * p));
     let mut t_icp = Isometry3::identity();
-    let mut around = NeighbourCache::for_points(scratch.len());
+    let mut around = NeighbourCache::default();
     for iteration in 1..=settings.max_iterations {
         let system = build_system(scratch, map, settings, &mut around);
         result.iterations = iteration;
@@ -111,12 +111,9 @@ pub(crate) fn build_system<'m>(
     s: &IcpSettings,
     around: &mut NeighbourCache<'m>,
 ) -> System {
-    if around.points.len() != source.len() {
-        *around = NeighbourCache::for_points(source.len());
-    }
     let partials: Vec<System> = source
         .par_chunks(CHUNK)
-        .zip(around.points.par_chunks_mut(CHUNK))
+        .zip(around.chunks(source.len(), CHUNK).par_iter_mut())
         .map(|(chunk, around)| chunk_system(chunk, around, map, s))
         .collect();
     partials.iter().fold(System::zero(), System::add)
@@ -124,16 +121,16 @@ pub(crate) fn build_system<'m>(
 
 fn chunk_system<'m>(
     chunk: &[Point3<f64>],
-    around: &mut [Around<'m>],
+    around: &mut ChunkAround<'m>,
     map: &'m VoxelHashMap,
     s: &IcpSettings,
 ) -> System {
     let mut sys = System::zero();
     let kappa2 = s.kernel * s.kernel;
-    for (p, around) in chunk.iter().zip(around) {
+    for (i, p) in chunk.iter().enumerate() {
         // Voxels that cannot hold a point closer than the threshold are not searched; the
         // correspondences are the ones upstream's full search followed by the threshold gives.
-        let Some((q, _)) = around.closest(map, p, s.max_distance) else {
+        let Some((q, _)) = around.closest(i, map, p, s.max_distance) else {
             continue;
         };
         let r = p - q;

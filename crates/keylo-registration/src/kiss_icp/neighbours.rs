@@ -5,53 +5,106 @@
 //! until the point moves to another voxel. On the simulated road, 66 % of the lookups of a
 //! nearest-neighbour search find no voxel and a search looks up 6.7 voxels; with the blocks
 //! kept, a search reads only the ones that exist. The answer is the one of
-//! [`VoxelHashMap::closest_neighbour_within`]: the same blocks, in the same order.
+//! [`VoxelHashMap::closest_neighbour_within`]: the same blocks, in the same order. The blocks
+//! of a chunk of points share one vector (a vector per point made the allocator a tenth of
+//! the hybrid registrar's time on KITTI).
+
+use std::ops::Range;
 
 use keylo_core::voxel::Voxel;
 use nalgebra::Point3;
 
 use super::voxel_map::VoxelHashMap;
 
-/// The blocks around one source point: its voxel when they were looked up, and the map
-/// voxels among the 27 around it that hold points (index in the neighbour order, points).
+/// The blocks around the source points of one chunk of an alignment: per point its voxel when
+/// they were looked up and its range in `arena`, which holds the map voxels among the 27 around
+/// it that hold points (index in the neighbour order, points). One arena per chunk instead of a
+/// vector per point: a frame has tens of thousands of points.
 #[derive(Default)]
-pub(crate) struct Around<'m> {
-    voxel: Option<Voxel>,
-    blocks: Vec<(u8, &'m [Point3<f64>])>,
+pub(crate) struct ChunkAround<'m> {
+    voxels: Vec<Option<Voxel>>,
+    ranges: Vec<Range<u32>>,
+    arena: Vec<(u8, &'m [Point3<f64>])>,
+    /// Entries of `arena` some point's range still covers.
+    live: usize,
 }
 
-impl<'m> Around<'m> {
-    /// Nearest map point to `query` closer than `max_distance`, as
+impl<'m> ChunkAround<'m> {
+    fn for_points(n: usize) -> Self {
+        Self {
+            voxels: vec![None; n],
+            ranges: vec![0..0; n],
+            arena: Vec::new(),
+            live: 0,
+        }
+    }
+
+    /// Nearest map point to `query` (the chunk's point `i`) closer than `max_distance`, as
     /// [`VoxelHashMap::closest_neighbour_within`] finds it; looks the blocks up again when
     /// `query` is in another voxel than last time.
     #[inline]
     pub(crate) fn closest(
         &mut self,
+        i: usize,
         map: &'m VoxelHashMap,
         query: &Point3<f64>,
         max_distance: f64,
     ) -> Option<(Point3<f64>, f64)> {
         let v = map.voxel(query);
-        if self.voxel != Some(v) {
-            map.blocks_around(v, &mut self.blocks);
-            self.voxel = Some(v);
+        if self.voxels[i] != Some(v) {
+            self.compact_if_sparse();
+            let start = self.arena.len();
+            map.extend_with_blocks_around(v, &mut self.arena);
+            let range = start as u32..self.arena.len() as u32;
+            self.live = self.live + range.len() - self.ranges[i].len();
+            self.ranges[i] = range;
+            self.voxels[i] = Some(v);
         }
-        map.closest_among(query, &self.blocks, max_distance)
+        let r = &self.ranges[i];
+        map.closest_among(
+            query,
+            &self.arena[r.start as usize..r.end as usize],
+            max_distance,
+        )
+    }
+
+    /// Drops the entries no point uses any more once they outnumber the live ones.
+    fn compact_if_sparse(&mut self) {
+        if self.arena.len() < 2 * self.live + 4096 {
+            return;
+        }
+        let mut arena = Vec::with_capacity(self.live);
+        for r in &mut self.ranges {
+            let start = arena.len() as u32;
+            arena.extend_from_slice(&self.arena[r.start as usize..r.end as usize]);
+            *r = start..arena.len() as u32;
+        }
+        self.arena = arena;
     }
 }
 
-/// One [`Around`] per source point of an alignment, in the source's order.
+/// The kept blocks of every source point of an alignment, in chunks of the source's order.
 #[derive(Default)]
 pub(crate) struct NeighbourCache<'m> {
-    pub(crate) points: Vec<Around<'m>>,
+    points: usize,
+    chunk: usize,
+    chunks: Vec<ChunkAround<'m>>,
 }
 
-impl NeighbourCache<'_> {
-    /// A cache for `n` source points, nothing looked up yet.
-    pub(crate) fn for_points(n: usize) -> Self {
-        let mut points = Vec::with_capacity(n);
-        points.resize_with(n, Around::default);
-        Self { points }
+impl<'m> NeighbourCache<'m> {
+    /// The chunks for `n` source points split every `chunk` points (as `par_chunks(chunk)`
+    /// splits them), started afresh if the cache was made for another split.
+    pub(crate) fn chunks(&mut self, n: usize, chunk: usize) -> &mut [ChunkAround<'m>] {
+        if self.points != n || self.chunk != chunk || self.chunks.is_empty() && n > 0 {
+            let chunk = chunk.max(1);
+            self.chunks = (0..n)
+                .step_by(chunk)
+                .map(|start| ChunkAround::for_points(chunk.min(n - start)))
+                .collect();
+            self.points = n;
+            self.chunk = chunk;
+        }
+        &mut self.chunks
     }
 }
 
@@ -85,21 +138,22 @@ mod tests {
     #[test]
     fn cached_search_finds_what_the_plain_search_finds_as_points_move() {
         let map = map();
-        let mut around = Around::default();
+        let mut cache = NeighbourCache::default();
         let mut same_voxel = 0;
         for step in 0..400 {
             let t = f64::from(step) * 0.01;
             // A point walking through voxels near and far from the surfaces.
             let q = Point3::new(0.05 + t, 0.4 + 0.3 * t.sin(), 0.02 + 0.2 * t.cos().abs());
-            let before = around.voxel;
+            let chunk = &mut cache.chunks(1, 512)[0];
+            let before = chunk.voxels[0];
             for max_distance in [0.05, 0.3, 1.0, f64::INFINITY] {
                 assert_eq!(
-                    around.closest(&map, &q, max_distance),
+                    chunk.closest(0, &map, &q, max_distance),
                     map.closest_neighbour_within(&q, max_distance),
                     "{q:?} {max_distance}"
                 );
             }
-            same_voxel += usize::from(before == around.voxel);
+            same_voxel += usize::from(before == chunk.voxels[0]);
         }
         // The walk stayed in a voxel often enough that the kept blocks were used.
         assert!(same_voxel > 200, "{same_voxel}");

@@ -222,10 +222,13 @@ impl VoxelHashMap {
         nearest.found()
     }
 
-    /// Replaces `out` with the points of every map voxel among the 27 around voxel `v` that
+    /// Appends to `out` the points of every map voxel among the 27 around voxel `v` that
     /// holds any, with its index in [`NEIGHBOURS`], in that order.
-    pub(crate) fn blocks_around<'m>(&'m self, v: Voxel, out: &mut Vec<(u8, &'m [Point3<f64>])>) {
-        out.clear();
+    pub(crate) fn extend_with_blocks_around<'m>(
+        &'m self,
+        v: Voxel,
+        out: &mut Vec<(u8, &'m [Point3<f64>])>,
+    ) {
         for (k, d) in (0u8..).zip(NEIGHBOURS) {
             if let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) {
                 out.push((k, &block.points));
