@@ -117,12 +117,7 @@ mod tests {
     /// Points scattered over a few surfaces, some voxels empty.
     fn map() -> VoxelHashMap {
         let mut state = 99u64;
-        let mut rnd = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = || crate::test_scenes::rnd(&mut state);
         let pts: Vec<_> = (0..4000)
             .map(|i| match i % 3 {
                 0 => Point3::new(4.0 * rnd(), 4.0 * rnd(), 0.0),
