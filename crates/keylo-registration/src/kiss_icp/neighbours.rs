@@ -153,4 +153,35 @@ mod tests {
         // The walk stayed in a voxel often enough that the kept blocks were used.
         assert!(same_voxel > 200, "{same_voxel}");
     }
+
+    #[test]
+    fn many_points_changing_voxels_keep_finding_the_same_neighbours() {
+        // 512 points, each moving to another voxel at most steps: the chunk's arena fills with
+        // entries no point uses and is compacted along the way.
+        let map = map();
+        let mut state = 7u64;
+        let start: Vec<_> = (0..512)
+            .map(|_| {
+                let mut r = || crate::test_scenes::rnd(&mut state);
+                Point3::new(3.0 * r(), 3.0 * r(), 1.5 * r())
+            })
+            .collect();
+        let mut cache = NeighbourCache::default();
+        let mut compacted = false;
+        for step in 0..60 {
+            let shift = nalgebra::Vector3::new(0.07, -0.05, 0.03) * f64::from(step % 20);
+            let chunk = &mut cache.chunks(start.len(), 512)[0];
+            let before = chunk.arena.len();
+            for (i, p) in start.iter().enumerate() {
+                let q = p + shift;
+                assert_eq!(
+                    chunk.closest(i, &map, &q, 0.5),
+                    map.closest_neighbour_within(&q, 0.5),
+                    "step {step}, point {i}"
+                );
+            }
+            compacted |= chunk.arena.len() < before;
+        }
+        assert!(compacted, "the arena was never compacted");
+    }
 }
