@@ -104,7 +104,7 @@ pub fn align(
 
 /// The system of every point of `source` (world frame) with a map neighbour closer than
 /// `s.max_distance`, Geman–McClure weighted with scale `s.kernel`. `around` keeps each
-/// point's map blocks between calls of one alignment (it has one entry per source point).
+/// point's map blocks between calls of one alignment (in chunks of `CHUNK` source points).
 pub(crate) fn build_system<'m>(
     source: &[Point3<f64>],
     map: &'m VoxelHashMap,

@@ -95,7 +95,7 @@ impl<'m> NeighbourCache<'m> {
     /// The chunks for `n` source points split every `chunk` points (as `par_chunks(chunk)`
     /// splits them), started afresh if the cache was made for another split.
     pub(crate) fn chunks(&mut self, n: usize, chunk: usize) -> &mut [ChunkAround<'m>] {
-        if self.points != n || self.chunk != chunk || self.chunks.is_empty() && n > 0 {
+        if self.points != n || self.chunk != chunk {
             let chunk = chunk.max(1);
             self.chunks = (0..n)
                 .step_by(chunk)

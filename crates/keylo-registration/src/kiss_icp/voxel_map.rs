@@ -195,7 +195,7 @@ impl VoxelHashMap {
             if gap2(&d, &faces) >= nearest.d2 {
                 continue;
             }
-            if let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) {
+            if let Some(block) = self.block_at(&v, &d) {
                 nearest.scan(&block.points, query);
             }
         }
@@ -203,8 +203,8 @@ impl VoxelHashMap {
     }
 
     /// What [`VoxelHashMap::closest_neighbour_within`] returns, searching `around`, the blocks
-    /// of [`VoxelHashMap::blocks_around`] for `query`'s voxel, instead of looking them up:
-    /// the same blocks in the same order, so the same answer.
+    /// of [`VoxelHashMap::extend_with_blocks_around`] for `query`'s voxel, instead of looking
+    /// them up: the same blocks in the same order, so the same answer.
     #[inline]
     pub(crate) fn closest_among(
         &self,
@@ -230,10 +230,16 @@ impl VoxelHashMap {
         out: &mut Vec<(u8, &'m [Point3<f64>])>,
     ) {
         for (k, d) in (0u8..).zip(NEIGHBOURS) {
-            if let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) {
+            if let Some(block) = self.block_at(&v, &d) {
                 out.push((k, &block.points));
             }
         }
+    }
+
+    /// The block of the voxel at offset `d` from voxel `v`, if the map holds one.
+    #[inline]
+    fn block_at(&self, v: &Voxel, d: &Voxel) -> Option<&Block> {
+        self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]])
     }
 
     /// The voxel of `query` in this map.
@@ -272,7 +278,7 @@ impl VoxelHashMap {
             if gap2(&d, &faces) >= skip {
                 continue;
             }
-            let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
+            let Some(block) = self.block_at(&v, &d) else {
                 continue;
             };
             out.extend(
