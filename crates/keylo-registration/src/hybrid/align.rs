@@ -8,7 +8,7 @@ use nalgebra::{Isometry3, Matrix6, Point3, Vector6};
 use rayon::prelude::*;
 
 use super::keypoint_terms::{keypoint_system, Correspondences};
-use super::plane_terms::{plane_system, NormalCache};
+use super::plane_terms::{plane_system, LastNormals, NormalCache};
 use super::step::{self, StepProblem, StepSolver};
 use crate::degeneracy::scaling;
 use crate::kiss_icp::icp::{build_system, IcpSettings};
@@ -110,12 +110,13 @@ pub fn align(
     let mut verified = (s.keypoint_gate <= 0.0 || pairs.is_empty()).then_some(Cow::Borrowed(pairs));
     let no_pairs = Cow::Owned(Correspondences::default());
     let mut around = NeighbourCache::default();
+    let mut last = LastNormals::default();
     for iteration in 1..=s.icp.max_iterations {
         let pose = correction * guess;
         let a = about(&pose.translation.vector);
         let in_use = verified.as_ref().unwrap_or(&no_pairs);
         let cloud = if s.point_to_plane {
-            plane_system(scratch, map, &s.icp, normals, &mut around)
+            plane_system(scratch, map, &s.icp, normals, (&mut around, &mut last))
         } else {
             build_system(scratch, map, &s.icp, &mut around)
         };

@@ -13,7 +13,7 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
 
-use keylo_core::voxel::{voxel_of, VoxelHasher, VoxelMap};
+use keylo_core::voxel::{voxel_of, Voxel, VoxelHasher, VoxelMap};
 use nalgebra::{Isometry3, Point3, RowVector6, Vector3};
 use rayon::prelude::*;
 
@@ -48,6 +48,18 @@ pub struct NormalCache {
     synced: Option<u64>,
 }
 
+/// The voxel at offset `d` from `v`.
+fn offset(v: &Voxel, d: &Voxel) -> Voxel {
+    [v[0] + d[0], v[1] + d[1], v[2] + d[2]]
+}
+
+/// Removes `keys` from `normals`.
+fn forget(keys: Vec<Key>, normals: &mut HashMap<Key, Normals, BuildHasherDefault<VoxelHasher>>) {
+    for k in keys {
+        normals.remove(&k);
+    }
+}
+
 /// A map point's bits, hashed as three words.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 struct Key([u64; 3]);
@@ -79,22 +91,50 @@ impl NormalCache {
         let now = map.updates();
         match self.synced {
             Some(v) if v == now => {}
-            Some(v) if v + 1 == now => {
-                for c in map.changed_in_last_update() {
-                    for d in NEIGHBOURS {
-                        let around = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
-                        for k in self.by_voxel.remove(&around).unwrap_or_default() {
-                            self.normals.remove(&k);
-                        }
-                    }
-                }
-            }
+            Some(v) if v + 1 == now => self.drop_around(map.changed_in_last_update()),
             _ => {
                 self.normals.clear();
                 self.by_voxel.clear();
             }
         }
         self.synced = Some(now);
+    }
+
+    /// Drops the normals of the points in the 27 voxels around each of `changed` (which may
+    /// repeat). Walks whichever is smaller: the changed voxels' neighbourhoods, or the cached
+    /// voxels (asking whether a changed voxel is among their 27); both drop the same normals.
+    fn drop_around(&mut self, changed: &[Voxel]) {
+        let changed: VoxelMap<()> = changed.iter().map(|c| (*c, ())).collect();
+        if changed.len() <= self.by_voxel.len() {
+            self.drop_around_changed(&changed);
+        } else {
+            self.drop_near_changed(&changed);
+        }
+    }
+
+    /// [`NormalCache::drop_around`] walking the changed voxels.
+    fn drop_around_changed(&mut self, changed: &VoxelMap<()>) {
+        for c in changed.keys() {
+            for d in NEIGHBOURS {
+                if let Some(keys) = self.by_voxel.remove(&offset(c, &d)) {
+                    forget(keys, &mut self.normals);
+                }
+            }
+        }
+    }
+
+    /// [`NormalCache::drop_around`] walking the cached voxels.
+    fn drop_near_changed(&mut self, changed: &VoxelMap<()>) {
+        let normals = &mut self.normals;
+        self.by_voxel.retain(|v, keys| {
+            let near = NEIGHBOURS
+                .iter()
+                .any(|d| changed.contains_key(&offset(v, d)));
+            if near {
+                forget(std::mem::take(keys), normals);
+            }
+            !near
+        });
     }
 
     /// Computes (in parallel) and caches the normals of the map points `qs` not cached yet.
@@ -172,16 +212,25 @@ pub(crate) fn plane_information_cached(
     })
 }
 
+/// Each source point's nearest map point and its normal in the last call of one alignment
+/// (the map does not change within it): a point whose neighbour is the same as last time
+/// takes the normal from here instead of from the [`NormalCache`]. Late in an alignment
+/// nearly every point keeps its neighbour.
+#[derive(Debug, Default)]
+pub(crate) struct LastNormals {
+    last: Vec<Option<(Key, Option<Vector3<f64>>)>>,
+}
+
 /// The normal equations (twist about the world origin, as [`crate::kiss_icp::icp`]) of
 /// `source` (world frame) against `map`, of the points whose nearest neighbour has a normal,
-/// Geman–McClure weights `κ² / (κ + r²)²` as upstream KISS-ICP's. `around` keeps each
-/// point's map blocks between calls of one alignment, as [`crate::kiss_icp::icp`] does.
+/// Geman–McClure weights `κ² / (κ + r²)²` as upstream KISS-ICP's. `around` and `last` keep
+/// each point's map blocks and last neighbour's normal between calls of one alignment.
 pub(crate) fn plane_system<'m>(
     source: &[Point3<f64>],
     map: &'m VoxelHashMap,
     s: &IcpSettings,
     cache: &mut NormalCache,
-    around: &mut NeighbourCache<'m>,
+    (around, last): (&mut NeighbourCache<'m>, &mut LastNormals),
 ) -> System {
     let mut pairs: Vec<Option<Point3<f64>>> = vec![None; source.len()];
     pairs
@@ -193,12 +242,7 @@ pub(crate) fn plane_system<'m>(
                 *q = around.closest(i, map, p, s.max_distance).map(|(q, _)| q);
             }
         });
-    cache.fill(map, pairs.iter().flatten());
-    let normals: Vec<Option<Vector3<f64>>> = cache
-        .normals_of(&pairs)
-        .into_iter()
-        .map(|n| n.least)
-        .collect();
+    let normals = last.normals(&pairs, map, cache);
     let partials: Vec<System> = source
         .par_chunks(CHUNK)
         .zip(pairs.par_chunks(CHUNK))
@@ -206,6 +250,37 @@ pub(crate) fn plane_system<'m>(
         .map(|((ps, qs), ns)| chunk_system(ps, qs, ns, s.kernel))
         .collect();
     partials.iter().fold(System::zero(), |a, b| a.add(b))
+}
+
+impl LastNormals {
+    /// The normal (of least spread) of each neighbour in `pairs`: kept from the last call where
+    /// the neighbour is the same, else from `cache` (filled first).
+    fn normals(
+        &mut self,
+        pairs: &[Option<Point3<f64>>],
+        map: &VoxelHashMap,
+        cache: &mut NormalCache,
+    ) -> Vec<Option<Vector3<f64>>> {
+        if self.last.len() != pairs.len() {
+            self.last = vec![None; pairs.len()];
+        }
+        let mut normals = vec![None; pairs.len()];
+        let mut changed: Vec<(usize, Point3<f64>)> = Vec::new();
+        for (i, q) in pairs.iter().enumerate() {
+            let Some(q) = q else { continue };
+            match self.last[i] {
+                Some((k, n)) if k == key(q) => normals[i] = n,
+                _ => changed.push((i, *q)),
+            }
+        }
+        cache.fill(map, changed.iter().map(|(_, q)| q));
+        for (i, q) in changed {
+            let n = cache.normals.get(&key(&q)).and_then(|n| n.least);
+            normals[i] = n;
+            self.last[i] = Some((key(&q), n));
+        }
+        normals
+    }
 }
 
 fn chunk_system(
@@ -267,7 +342,7 @@ mod tests {
             &map,
             &settings(),
             &mut cache,
-            &mut NeighbourCache::default(),
+            (&mut NeighbourCache::default(), &mut LastNormals::default()),
         );
         assert!(sys.count > 5000);
         // Along x (the axis) the information is far below that across the walls (y); the
@@ -292,10 +367,35 @@ mod tests {
             &map,
             &settings(),
             &mut cache,
-            &mut NeighbourCache::default(),
+            (&mut NeighbourCache::default(), &mut LastNormals::default()),
         );
         assert_eq!(cache.len(), cached);
         assert_eq!(again.jtj, sys.jtj);
+    }
+
+    /// Both ways of dropping the normals around changed voxels drop the same ones.
+    #[test]
+    fn both_ways_of_dropping_normals_agree() {
+        let mut map = VoxelHashMap::new(0.5, 100.0, 20);
+        map.update(&corridor(1), &Isometry3::identity());
+        let queries: Vec<Point3<f64>> = map.points().into_iter().step_by(2).collect();
+        let mut a = NormalCache::default();
+        a.fill(&map, queries.iter());
+        let mut b = NormalCache::default();
+        b.fill(&map, queries.iter());
+        let changed: VoxelMap<()> = [[0, 0, 0], [3, 4, 0], [10, -4, 1], [-2, 3, 0], [3, 4, 0]]
+            .into_iter()
+            .map(|v| (v, ()))
+            .collect();
+        a.drop_around_changed(&changed);
+        b.drop_near_changed(&changed);
+        let kept = |c: &NormalCache| {
+            let mut k: Vec<Key> = c.normals.keys().copied().collect();
+            k.sort();
+            k
+        };
+        assert_eq!(kept(&a), kept(&b));
+        assert!(a.len() < queries.len() && a.len() > queries.len() / 2);
     }
 
     #[test]
