@@ -77,6 +77,12 @@ pub struct BeamGeometry {
     pub columns_per_frame: usize,
     /// Revolutions per second.
     pub frame_rate_hz: f64,
+    /// Per row, how many columns earlier than its column's time the row's pixels fired: pixel
+    /// `(r, c)` of a frame without `pixel_times` fired at `column_times[(c − lag[r]) mod
+    /// cols]` (a destaggered Ouster image: each beam fires at its own column offset). Empty
+    /// when every pixel fired at its column's time.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub column_lag_by_row: Vec<usize>,
 }
 
 impl BeamGeometry {
@@ -90,6 +96,7 @@ impl BeamGeometry {
             origin_to_beam_mm: 0.0,
             columns_per_frame: columns,
             frame_rate_hz: 0.0,
+            column_lag_by_row: Vec::new(),
         }
     }
 }
@@ -170,13 +177,46 @@ impl LidarFrame {
         }
     }
 
-    /// Firing time of pixel `i` (row-major), seconds.
+    /// Firing time of pixel `i` (row-major), seconds: from `pixel_times`, else from
+    /// `column_times` and the beams' [`BeamGeometry::column_lag_by_row`].
     #[inline]
     pub fn pixel_time(&self, i: usize) -> f64 {
         match &self.pixel_times {
             Some(t) => t[i],
-            None => self.column_times[i % self.cols],
+            None => {
+                let c = i % self.cols;
+                match self.column_lags() {
+                    Some(lags) => {
+                        let lag = lags[i / self.cols] % self.cols;
+                        self.column_times[(c + self.cols - lag) % self.cols]
+                    }
+                    None => self.column_times[c],
+                }
+            }
         }
+    }
+
+    /// The beams' column lags, when they describe this frame (one per row, a full revolution
+    /// of columns).
+    #[inline]
+    fn column_lags(&self) -> Option<&[usize]> {
+        let lags = &self.beams.column_lag_by_row;
+        (!lags.is_empty() && lags.len() == self.rows && self.beams.columns_per_frame == self.cols)
+            .then_some(lags.as_slice())
+    }
+
+    /// Every pixel's firing time (row-major), when pixels of one column fired at different
+    /// times: `pixel_times`, or the times the column lags give; `None` when every pixel has
+    /// its column's time.
+    pub fn pixel_times_or_lagged(&self) -> Option<std::borrow::Cow<'_, [f64]>> {
+        if let Some(t) = &self.pixel_times {
+            return Some(std::borrow::Cow::Borrowed(t));
+        }
+        self.column_lags()?;
+        let n = self.rows * self.cols;
+        Some(std::borrow::Cow::Owned(
+            (0..n).map(|i| self.pixel_time(i)).collect(),
+        ))
     }
 
     /// The time a pose of this frame refers to: `timestamp` plus the latest firing time of
@@ -360,6 +400,7 @@ mod tests {
             origin_to_beam_mm: 0.0,
             columns_per_frame: 3,
             frame_rate_hz: 10.0,
+            column_lag_by_row: Vec::new(),
         })
     }
 
@@ -415,6 +456,28 @@ mod tests {
             10.093,
             "an unorganised frame: its scan's times"
         );
+    }
+
+    /// Without `pixel_times`, the beams' column lags give each row's pixel the time of the
+    /// column it was fired in; lags that do not describe the frame are not used.
+    #[test]
+    fn column_lags_give_each_rows_pixel_times() {
+        let mut beams = (*beams()).clone();
+        beams.column_lag_by_row = vec![0, 2];
+        let mut f = LidarFrame::empty(0, 10.0, 2, 3, Arc::new(beams.clone()));
+        f.column_times = vec![10.0, 10.05, 10.1];
+        let times: Vec<f64> = (0..6).map(|i| f.pixel_time(i)).collect();
+        // Row 1 fired two columns earlier: column c at column (c − 2) mod 3's time.
+        assert_eq!(times, [10.0, 10.05, 10.1, 10.05, 10.1, 10.0]);
+        assert_eq!(f.pixel_times_or_lagged().as_deref(), Some(&times[..]));
+        // Stored times win; without lags every pixel has its column's time.
+        f.pixel_times = Some(vec![1.0; 6]);
+        assert_eq!(f.pixel_time(4), 1.0);
+        f.pixel_times = None;
+        beams.column_lag_by_row = vec![0];
+        f.beams = Arc::new(beams);
+        assert_eq!(f.pixel_time(4), 10.05);
+        assert!(f.pixel_times_or_lagged().is_none());
     }
 
     #[test]

@@ -23,6 +23,7 @@ fn frame(rows: usize, cols: usize) -> LidarFrame {
         origin_to_beam_mm: 0.0,
         columns_per_frame: cols,
         frame_rate_hz: 10.0,
+        column_lag_by_row: Vec::new(),
     });
     let mut f = LidarFrame::empty(3, 100.0, rows, cols, beams);
     f.column_times = (0..cols).map(|c| 100.0 + c as f64 * 1e-4).collect();

@@ -116,6 +116,7 @@ impl SensorModel {
             origin_to_beam_mm: 0.0,
             columns_per_frame: self.cols,
             frame_rate_hz: self.frame_rate_hz,
+            column_lag_by_row: Vec::new(),
         })
     }
 }

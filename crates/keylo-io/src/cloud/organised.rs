@@ -110,6 +110,7 @@ mod tests {
             origin_to_beam_mm: 0.0,
             columns_per_frame: 3,
             frame_rate_hz: 10.0,
+            column_lag_by_row: Vec::new(),
         });
         let cloud = RawCloud {
             timestamp: 2.0,

@@ -40,6 +40,7 @@ impl Projector {
             origin_to_beam_mm: 0.0,
             columns_per_frame: grid.cols,
             frame_rate_hz: grid.frame_rate_hz,
+            column_lag_by_row: Vec::new(),
         });
         let top_first = match grid.ring_order {
             RingOrder::Auto => None,

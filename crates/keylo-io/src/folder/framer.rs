@@ -79,6 +79,7 @@ impl Framer {
             origin_to_beam_mm: 0.0,
             columns_per_frame: cols,
             frame_rate_hz: grid.frame_rate_hz,
+            column_lag_by_row: Vec::new(),
         });
         self.organised = Some(((rows, cols), Arc::clone(&beams)));
         beams

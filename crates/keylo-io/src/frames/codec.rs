@@ -146,6 +146,7 @@ mod tests {
             origin_to_beam_mm: 0.0,
             columns_per_frame: 3,
             frame_rate_hz: 10.0,
+            column_lag_by_row: Vec::new(),
         });
         let mut f = LidarFrame::empty(7, 1.5, 2, 3, beams);
         f.range[2] = 4.0;

@@ -48,6 +48,20 @@ impl Manifest {
                 ),
             ));
         }
+        let lags = &m.beams.column_lag_by_row;
+        if !lags.is_empty() && (lags.len() != m.rows || lags.iter().any(|&l| l >= m.cols)) {
+            return Err(IoError::format(
+                path,
+                format!(
+                    "beams.column_lag_by_row has {} entries (largest {}), expected none or \
+                     rows = {}, each below cols = {}",
+                    lags.len(),
+                    lags.iter().max().copied().unwrap_or(0),
+                    m.rows,
+                    m.cols
+                ),
+            ));
+        }
         Ok(m)
     }
 }

@@ -20,7 +20,6 @@ struct Staggered<'a> {
     signal: &'a [u32],
     reflectivity: &'a [u32],
     raw: &'a RawFrame,
-    times: &'a [f64],
 }
 
 /// One block of destaggered rows of every output grid, spare capacity the destagger writes
@@ -32,7 +31,6 @@ struct RowOut<'a> {
     near_ir: &'a mut [MaybeUninit<f32>],
     points: &'a mut [MaybeUninit<Point3<f32>>],
     valid: &'a mut [MaybeUninit<bool>],
-    times: &'a mut [MaybeUninit<f64>],
 }
 
 /// An empty vector with room for `n` values, allocated zeroed: measured faster than an
@@ -52,7 +50,6 @@ struct Grids {
     near_ir: Vec<f32>,
     points: Vec<Point3<f32>>,
     valid: Vec<bool>,
-    times: Vec<f64>,
 }
 
 impl Grids {
@@ -64,7 +61,6 @@ impl Grids {
             near_ir: zeroed(n),
             points: Vec::with_capacity(n),
             valid: zeroed(n),
-            times: zeroed(n),
         }
     }
 
@@ -81,7 +77,6 @@ impl Grids {
             self.near_ir.set_len(n);
             self.points.set_len(n);
             self.valid.set_len(n);
-            self.times.set_len(n);
         }
     }
 }
@@ -190,6 +185,12 @@ impl Destaggerer {
             origin_to_beam_mm: meta.lidar_origin_to_beam_origin_mm,
             columns_per_frame: cols,
             frame_rate_hz: f64::from(meta.fps),
+            // Row `r`'s pixel in column `c` came from staggered column `c − shift(r)`, and
+            // `column_times[c]` is staggered column `c − median_shift`'s time.
+            column_lag_by_row: shifts
+                .iter()
+                .map(|s| (s + cols - median_shift) % cols.max(1))
+                .collect(),
         });
         Self {
             rows,
@@ -219,7 +220,6 @@ impl Destaggerer {
             signal,
             reflectivity,
             raw,
-            times: &staggered_times,
         };
         // Rows are independent: destagger blocks of rows in parallel, each into its own
         // output rows. A block reads the staggered (column-major) buffers a cache line per
@@ -232,9 +232,8 @@ impl Destaggerer {
             .zip(g.near_ir.spare_capacity_mut()[..n].par_chunks_mut(block))
             .zip(g.points.spare_capacity_mut()[..n].par_chunks_mut(block))
             .zip(g.valid.spare_capacity_mut()[..n].par_chunks_mut(block))
-            .zip(g.times.spare_capacity_mut()[..n].par_chunks_mut(block))
             .enumerate()
-            .for_each(|(b, ((((((rg, sg), rf), nir), pts), ok), t))| {
+            .for_each(|(b, (((((rg, sg), rf), nir), pts), ok))| {
                 let out = RowOut {
                     range: rg,
                     signal: sg,
@@ -242,7 +241,6 @@ impl Destaggerer {
                     near_ir: nir,
                     points: pts,
                     valid: ok,
-                    times: t,
                 };
                 self.rows_block(b * ROW_BLOCK, &input, out);
             });
@@ -259,7 +257,9 @@ impl Destaggerer {
             rows: self.rows,
             cols: self.cols,
             column_times,
-            pixel_times: Some(g.times),
+            // Each pixel's time is its staggered column's: `beams.column_lag_by_row` gives
+            // it from `column_times` (`LidarFrame::pixel_time`) without a per-pixel array.
+            pixel_times: None,
             range: g.range,
             signal: g.signal,
             reflectivity: g.reflectivity,
@@ -324,16 +324,13 @@ impl Destaggerer {
         let src_nir = &tile.near_ir[rb][k];
         let angles = &self.lut.columns()[m.clone()];
         let col_valid = &input.raw.column_valid[m.clone()];
-        let times = &input.times[m];
         let o_range = &mut out.range[dst.clone()];
         let o_signal = &mut out.signal[dst.clone()];
         let o_refl = &mut out.reflectivity[dst.clone()];
         let o_nir = &mut out.near_ir[dst.clone()];
         let o_points = &mut out.points[dst.clone()];
         let o_valid = &mut out.valid[dst.clone()];
-        let o_times = &mut out.times[dst];
         // One simple loop per output (vectorised by the compiler), all within L1.
-        write_each(o_times, times, |&t| t);
         write_each(o_signal, src_signal, |&v| v as f32);
         write_each(o_refl, src_refl, |&v| v as f32);
         write_each(o_nir, src_nir, |&v| v as f32);

@@ -19,6 +19,7 @@ pub(crate) fn from_metadata(m: &OusterMetadata) -> BeamGeometry {
         origin_to_beam_mm: m.lidar_origin_to_beam_origin_mm,
         columns_per_frame: m.columns_per_frame,
         frame_rate_hz: f64::from(m.fps),
+        column_lag_by_row: Vec::new(),
     }
 }
 
@@ -49,6 +50,7 @@ pub(crate) fn estimate(cloud: &RawCloud, rows: usize, cols: usize, model: &str) 
         origin_to_beam_mm: 0.0,
         columns_per_frame: cols,
         frame_rate_hz: 0.0,
+        column_lag_by_row: Vec::new(),
     }
 }
 

@@ -13,6 +13,9 @@ use crate::convert::{descriptors_view, image_name, image_view, keypoints_view, t
 pub struct FrameView<'a> {
     /// Boxed so that `frame.scan` keeps pointing at it when the view moves.
     _scan: Option<Box<KeyloScanPoints>>,
+    /// Per-pixel times the frame derives from its column lags (its heap buffer stays put
+    /// when the view moves).
+    _pixel_times: Option<Vec<f64>>,
     frame: KeyloFrame,
     _borrow: PhantomData<&'a LidarFrame>,
 }
@@ -25,13 +28,18 @@ impl<'a> FrameView<'a> {
         let scan_ptr = scan
             .as_deref()
             .map_or(std::ptr::null(), |s| s as *const KeyloScanPoints);
+        let lagged = match frame.pixel_times_or_lagged() {
+            Some(std::borrow::Cow::Owned(t)) => Some(t),
+            _ => None,
+        };
+        let pixel_times = optional(frame.pixel_times.as_deref().or(lagged.as_deref()));
         let abi = KeyloFrame {
             index: frame.index,
             timestamp: frame.timestamp,
             rows: to_u32(frame.rows, "frame rows")?,
             cols: to_u32(frame.cols, "frame cols")?,
             column_times: frame.column_times.as_ptr(),
-            pixel_times: optional(frame.pixel_times.as_deref()),
+            pixel_times,
             range: frame.range.as_ptr(),
             signal: frame.signal.as_ptr(),
             reflectivity: frame.reflectivity.as_ptr(),
@@ -43,6 +51,7 @@ impl<'a> FrameView<'a> {
         };
         Ok(Self {
             _scan: scan,
+            _pixel_times: lagged,
             frame: abi,
             _borrow: PhantomData,
         })
@@ -174,6 +183,25 @@ mod tests {
         // SAFETY: as above.
         let back = unsafe { frame_from_abi(view.abi()) }.unwrap();
         assert_eq!(back, organised);
+    }
+
+    /// A frame whose pixel times come from its beams' column lags lends them to the plugin
+    /// as the per-pixel array.
+    #[test]
+    fn lagged_pixel_times_cross_the_abi() {
+        let mut frame = scan_frame();
+        frame.scan = None;
+        frame.pixel_times = None;
+        frame.column_times = vec![2.5, 2.6, 2.7];
+        let mut beams = (*frame.beams).clone();
+        beams.column_lag_by_row = vec![1, 0];
+        frame.beams = Arc::new(beams);
+        let view = FrameView::new(&frame).unwrap();
+        // SAFETY: as in the test above.
+        let back = unsafe { frame_from_abi(view.abi()) }.unwrap();
+        let expected: Vec<f64> = (0..6).map(|i| frame.pixel_time(i)).collect();
+        assert_eq!(back.pixel_times.as_deref(), Some(&expected[..]));
+        assert_eq!(expected[..3], [2.7, 2.5, 2.6]);
     }
 
     #[test]
