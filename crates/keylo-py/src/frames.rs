@@ -5,8 +5,8 @@ use std::sync::Mutex;
 
 use keylo::config::RawConfig;
 use keylo::{ImageSource, LidarFrame};
-use numpy::ndarray::{ArrayView1, ArrayView2, ArrayView3};
-use numpy::{PyArray1, PyArray2, PyArray3};
+use numpy::ndarray::{Array2, ArrayView1, ArrayView2, ArrayView3};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use pyo3::exceptions::PyStopIteration;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -110,6 +110,23 @@ impl Frame {
         let f = &slf.get().inner;
         // SAFETY: the view is of the frozen frame's own data, owned by `slf`.
         unsafe { borrowed(ArrayView1::from(&f.column_times), slf.clone().into_any()) }
+    }
+
+    /// Firing time of every pixel, absolute seconds (rows×cols float64), or None when every
+    /// pixel fired at its column's time (`column_times`). A destaggered Ouster frame's rows
+    /// fired at their own column offsets; their times are computed on access (a new array).
+    #[getter]
+    fn pixel_times<'py>(
+        slf: &Bound<'py, Self>,
+        py: Python<'py>,
+    ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        let f = &slf.get().inner;
+        let Some(times) = f.pixel_times_or_lagged() else {
+            return Ok(None);
+        };
+        let grid = Array2::from_shape_vec((f.rows, f.cols), times.into_owned())
+            .map_err(|e| DataError::new_err(e.to_string()))?;
+        Ok(Some(grid.into_pyarray(py)))
     }
 
     /// Every finite point of an unorganised scan, file order (N×3 float64), or None for an

@@ -18,6 +18,14 @@ def test_an_ouster_capture_reads_as_read_only_views(ouster_pcap):
     # The same memory each time (a view of the frame, not a copy), and read-only.
     assert np.shares_memory(f.range, f.range)
     assert not f.range.flags.writeable
+    # Each row fired at its own column offset: its times are the column times, shifted.
+    t = f.pixel_times
+    assert t.shape == (128, 1024) and t.dtype == np.float64
+    for row in t:
+        assert np.isin(row, f.column_times).all()
+        shift = int(np.argmax(f.column_times == row[0]))
+        np.testing.assert_array_equal(row, np.roll(f.column_times, -shift))
+    assert not np.array_equal(t[0], t[-1])
     # Range is the norm of the point (to the sensor's precision) where valid.
     r = np.linalg.norm(f.xyz[f.valid], axis=1)
     assert np.allclose(r, f.range[f.valid], atol=0.05)

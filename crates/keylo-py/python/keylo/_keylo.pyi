@@ -77,6 +77,9 @@ class Frame:
     @property
     def column_times(self) -> npt.NDArray[np.float64]: ...
     @property
+    def pixel_times(self) -> npt.NDArray[np.float64] | None:
+        """rows×cols firing times (s) when rows fired at their own column offsets, else None."""
+    @property
     def points(self) -> npt.NDArray[np.float64] | None:
         """Every point of an unorganised scan (N×3), None for organised sources."""
     @property
