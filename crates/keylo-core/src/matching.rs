@@ -127,7 +127,8 @@ fn distances(query: &Descriptors, train: &Descriptors) -> Vec<f32> {
     out
 }
 
-/// Bits that differ (over the shorter of the two).
+/// Bits that differ (over the shorter of the two), eight bytes at a time.
+#[inline(always)]
 pub fn hamming(a: &[u8], b: &[u8]) -> u32 {
     a.chunks_exact(8)
         .zip(b.chunks_exact(8))
@@ -142,44 +143,33 @@ fn word(bytes: &[u8]) -> u64 {
     u64::from_le_bytes(bytes.try_into().unwrap_or([0; 8]))
 }
 
-/// The Hamming distances of `a` to each `a.len()`-byte row of `train`, into `out`, eight
-/// bytes at a time; with the CPU's population-count instruction where it has one (the
-/// portable build counts bits in software, several times slower).
+/// The Hamming distances of `a` to each `a.len()`-byte row of `train`, into `out`; with the
+/// CPU's population-count instruction where it has one (the portable build counts bits in
+/// software, several times slower).
 fn hamming_row(a: &[u8], train: &[u8], out: &mut [f32]) {
-    let words: Vec<u64> = a.chunks_exact(8).map(word).collect();
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("popcnt") {
         // SAFETY: the CPU has the `popcnt` instruction (checked just above).
-        unsafe { hamming_row_popcnt(a, &words, train, out) };
+        unsafe { hamming_row_popcnt(a, train, out) };
         return;
     }
-    hamming_row_with(a, &words, train, out);
+    hamming_row_with(a, train, out);
 }
 
 /// [`hamming_row_with`] compiled with the `popcnt` instruction.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "popcnt")]
-fn hamming_row_popcnt(a: &[u8], words: &[u64], train: &[u8], out: &mut [f32]) {
-    hamming_row_with(a, words, train, out);
+fn hamming_row_popcnt(a: &[u8], train: &[u8], out: &mut [f32]) {
+    hamming_row_with(a, train, out);
 }
 
-/// [`hamming_row`] with `a`'s whole words given.
+/// [`hamming_row`] in whichever instruction set its caller is compiled for.
 #[inline(always)]
-fn hamming_row_with(a: &[u8], words: &[u64], train: &[u8], out: &mut [f32]) {
+fn hamming_row_with(a: &[u8], train: &[u8], out: &mut [f32]) {
     let dim = a.len();
     for (j, v) in out.iter_mut().enumerate() {
-        let b = &train[j * dim..(j + 1) * dim];
-        *v = (hamming_bytes_words(words, b) + tail_bits(a, b)) as f32;
+        *v = hamming(a, &train[j * dim..(j + 1) * dim]) as f32;
     }
-}
-
-/// Bits that differ between the words `a` and the leading whole words of the bytes `b`.
-#[inline(always)]
-fn hamming_bytes_words(a: &[u64], b: &[u8]) -> u32 {
-    a.iter()
-        .zip(b.chunks_exact(8))
-        .map(|(x, w)| (x ^ word(w)).count_ones())
-        .sum()
 }
 
 /// Bits that differ in the bytes after the last whole eight-byte word.
@@ -265,12 +255,7 @@ mod tests {
                     assert_eq!(hamming(a, b), bits(a, b), "dim {dim}");
                     assert_eq!(d[i * train_rows + j], bits(a, b) as f32, "dim {dim}");
                     let mut one = [0.0f32];
-                    hamming_row_with(
-                        a,
-                        &a.chunks_exact(8).map(word).collect::<Vec<_>>(),
-                        b,
-                        &mut one,
-                    );
+                    hamming_row_with(a, b, &mut one);
                     assert_eq!(one[0], bits(a, b) as f32, "portable, dim {dim}");
                 }
             }
