@@ -4,7 +4,19 @@
 # now so that every later crate finds them), the ONNX Runtime shared library for SuperPoint
 # (from the PyPI `onnxruntime` wheel into .cache/; nothing is downloaded at run time), and a
 # release build of the `keylo` binary. Quick when everything is already there.
+#
+#   scripts/setup.sh [--no-release-build]
+#
+# --no-release-build: the system packages and ONNX Runtime only (scripts/test.sh: the tests build
+# what they run, so the release build would be a second build of the whole workspace).
 set -euo pipefail
+release_build=1
+for arg in "$@"; do
+  case "$arg" in
+    --no-release-build) release_build=0 ;;
+    *) echo "scripts/setup.sh: unknown argument '$arg' (expected --no-release-build)" >&2; exit 2 ;;
+  esac
+done
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 
@@ -50,6 +62,10 @@ else
   log "ONNX Runtime library present"
 fi
 
-log "building keylo (release)"
-cargo build --release --locked -q -p keylo-cli --manifest-path "$ROOT/Cargo.toml"
-log "ready: $ROOT/target/release/keylo"
+if [ "$release_build" -eq 1 ]; then
+  log "building keylo (release)"
+  cargo build --release --locked -q -p keylo-cli --manifest-path "$ROOT/Cargo.toml"
+  log "ready: $ROOT/target/release/keylo"
+else
+  log "ready (no release build asked for)"
+fi
