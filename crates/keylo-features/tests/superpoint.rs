@@ -289,3 +289,23 @@ fn same_image_same_keypoints() {
     let b = sp.detect(&image).unwrap();
     assert_eq!(a, b);
 }
+
+/// `spinning` only changes how ONNX Runtime's threads wait (each setting its own session):
+/// the keypoints are the same either way.
+#[test]
+fn spinning_threads_give_the_same_keypoints() {
+    let image = signal_range_image();
+    let run = |spinning| {
+        let params = SuperPointParams {
+            spinning,
+            ..cpu_params()
+        };
+        SuperPoint::new(params, &BuildContext::default())
+            .unwrap()
+            .detect(&image)
+            .unwrap()
+    };
+    let (sleeping, spinning) = (run(false), run(true));
+    assert!(!sleeping.is_empty());
+    assert_eq!(sleeping, spinning);
+}

@@ -44,8 +44,8 @@ pub struct Model {
     session: Arc<Mutex<Session>>,
 }
 
-/// Model name, threads, execution provider.
-type Key = (String, usize, ExecutionProvider);
+/// Model name, threads, spinning, execution provider.
+type Key = (String, usize, bool, ExecutionProvider);
 /// A loaded session and its input channel count.
 type Shared = (Arc<Mutex<Session>>, Option<usize>);
 static SESSIONS: Mutex<BTreeMap<Key, Shared>> = Mutex::new(BTreeMap::new());
@@ -61,7 +61,12 @@ impl Model {
             Precision::Int8 => ("built-in int8", BUILTIN_MODEL_INT8),
         };
         let name = model_path.map_or_else(|| builtin.0.to_string(), |p| p.display().to_string());
-        let key = (name.clone(), params.threads, params.execution_provider);
+        let key = (
+            name.clone(),
+            params.threads,
+            params.spinning,
+            params.execution_provider,
+        );
         let mut sessions = SESSIONS.lock().unwrap_or_else(|p| p.into_inner());
         if let Some((session, channels)) = sessions.get(&key) {
             return Ok(Self {
@@ -162,6 +167,8 @@ fn build_session(
     let mut builder = Session::builder(environment)
         .map_err(|e| fail(e.to_string()))?
         .with_optimization_level(GraphOptimizationLevel::All)
+        .map_err(|e| fail(e.to_string()))?
+        .with_intra_op_spinning(params.spinning)
         .map_err(|e| fail(e.to_string()))?;
     if params.threads > 0 {
         builder = builder

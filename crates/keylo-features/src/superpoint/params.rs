@@ -82,6 +82,11 @@ pub struct SuperPointParams {
     pub max_keypoints: usize,
     /// ONNX Runtime intra-op threads (0: ONNX Runtime's choice, one per core).
     pub threads: usize,
+    /// Let ONNX Runtime's worker threads spin-wait for work after each run (ONNX Runtime's
+    /// own default) instead of sleeping. Off by default: spinning threads hold the cores
+    /// that the other stages and a second model need (two sessions taking turns on 2 cores
+    /// ran at half speed) and add CPU time for nothing (docs/results/realtime.md).
+    pub spinning: bool,
     /// `auto`, `cpu` or `cuda`.
     pub execution_provider: ExecutionProvider,
     /// As a detector: also return the 256-d descriptors of the same pass.
@@ -103,6 +108,7 @@ impl Default for SuperPointParams {
             border: 4,
             max_keypoints: 0,
             threads: 2,
+            spinning: false,
             execution_provider: ExecutionProvider::Auto,
             describe: true,
             onnxruntime: String::new(),
