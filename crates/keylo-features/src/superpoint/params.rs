@@ -53,8 +53,9 @@ pub enum Precision {
     Fp32,
     /// The same network statically quantized to INT8 (activations uint8, weights int8 per
     /// channel; the first convolution and the detector's logits convolution stay FP32),
-    /// calibrated on 100 real OS0-128 signal images: about 1.5× faster on 2 AVX2 cores, 97 %
-    /// of the FP32 keypoints within 1 px (docs/results/realtime.md).
+    /// calibrated on 100 real OS0-128 signal images: about 1.5× faster on 2 AVX2 cores and
+    /// 2× on 2 cores with VNNI, 97 % of the FP32 keypoints within 1 px
+    /// (docs/results/realtime.md).
     /// `models/quantize_superpoint.py` makes it.
     Int8,
 }
