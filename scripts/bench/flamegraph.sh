@@ -3,14 +3,14 @@
 # the raw, AKAZE, SuperPoint and hybrid pipelines on the simulated lab (`ouster` appearance,
 # FRAMES frames at 1024×128), sampled with Linux `perf` (DWARF call graphs) and drawn with
 # `inferno` (`cargo install inferno`).
-#   bash scripts/bench/flamegraph.sh [OUT]      # OUT defaults to docs/results/profile; ~3 min
+#   bash scripts/bench/flamegraph.sh [OUT]      # OUT defaults to docs/results/profile; ~1.5 min
 # Needs: perf (Debian `linux-perf`) allowed to sample this process (perf_event_paranoid <= 2),
 # inferno-collapse-perf and inferno-flamegraph on PATH (or in ~/.cargo/bin).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 keylo=${KEYLO:-target/release/keylo}
 out=${1:-docs/results/profile}
-frames=${FRAMES:-40}
+frames=${FRAMES:-200}
 export PATH="$PATH:$HOME/.cargo/bin"
 for tool in perf inferno-collapse-perf inferno-flamegraph; do
     command -v "$tool" > /dev/null || { echo "error: $tool not found (see the header of $0)" >&2; exit 2; }
