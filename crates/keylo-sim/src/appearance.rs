@@ -19,6 +19,7 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use crate::mixed_pixels::MixedPixels;
 use crate::noise::{hash_words, unit};
 use crate::partial_drops::PartialDrops;
 
@@ -110,7 +111,28 @@ const PARTIAL_DROPS: PartialDrops = PartialDrops {
     high: 0.5,
 };
 
+/// Mixed pixels, as the real Ouster captures show them (`scripts/sim/mixed_pixels.py`): a
+/// pixel beside a range jump along its row (more than 0.3 · r + 0.2 m to its left or right
+/// neighbour) reads 0.59–0.77 of the signal of the same surface two pixels further in
+/// (median; quartiles 0.27–0.51 and 0.91–1.00), against 0.99 inside a surface (OS0-128 and
+/// OS-2-128 captures of `../shared/data/ouster`, 1024 columns). The lab without them:
+/// 0.96–1.00.
+const MIXED_PIXELS: MixedPixels = MixedPixels {
+    relative: 0.3,
+    absolute_m: 0.2,
+    low: 0.3,
+    high: 1.0,
+};
+
 impl Appearance {
+    /// Returns beside a range jump dimmed (`None` for `ideal`).
+    pub fn mixed_pixels(self) -> Option<MixedPixels> {
+        match self {
+            Self::Ideal => None,
+            Self::Ouster => Some(MIXED_PIXELS),
+        }
+    }
+
     /// Model signal at which returns drop out one time in two (0: never).
     pub fn dropout_counts(self) -> f64 {
         match self {

@@ -20,6 +20,7 @@
 pub mod appearance;
 pub mod config;
 pub mod error;
+pub mod mixed_pixels;
 pub mod motion;
 pub mod noise;
 pub mod partial_drops;

@@ -76,6 +76,16 @@ impl Renderer {
                 f.near_ir[i] = px.near_ir;
             }
         }
+        if let Some(mixed) = &self.shading.mixed_pixels {
+            mixed.apply(
+                (self.seed, index),
+                (rows, cols),
+                &f.valid,
+                &f.range,
+                &mut f.signal,
+                &mut f.reflectivity,
+            );
+        }
         f
     }
 

@@ -13,6 +13,7 @@ use nalgebra::{Point3, Vector3};
 use parry3d::math::Vector as GVec;
 
 use crate::appearance::BeamResponse;
+use crate::mixed_pixels::MixedPixels;
 use crate::noise::PixelRng;
 use crate::partial_drops::PartialDrops;
 use crate::scenes::Ambient;
@@ -79,6 +80,8 @@ pub struct Shading {
     pub dropout_counts: f64,
     /// Returns measured far too low at random (see [`PartialDrops`]); `None`: never.
     pub partial_drops: Option<PartialDrops>,
+    /// Returns beside a range jump dimmed (see [`MixedPixels`]); `None`: never.
+    pub mixed_pixels: Option<MixedPixels>,
 }
 
 impl Shading {
@@ -203,6 +206,7 @@ mod tests {
             noise_factor: 1.0,
             dropout_counts: 0.0,
             partial_drops: None,
+            mixed_pixels: None,
         }
     }
 

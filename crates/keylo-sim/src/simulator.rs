@@ -48,6 +48,7 @@ impl Simulator {
             noise_factor: config.appearance.noise_factor(),
             dropout_counts: config.appearance.dropout_counts(),
             partial_drops: config.appearance.partial_drops(),
+            mixed_pixels: config.appearance.mixed_pixels(),
         };
         let mut sim = Self {
             config: config.clone(),
