@@ -12,6 +12,9 @@
 //! * near field: below ~3 m the signal falls short of `1/r²` (the real images are brightest
 //!   on the walls, not on the floor next to the sensor);
 //! * dropouts: weak returns (dark, far or grazing surfaces) are lost at random.
+//! * partial drops: a pixel now and then reads a fraction of its signal, in short runs;
+//! * mixed pixels: a pixel beside a range jump along its row reads part of its signal (its
+//!   beam falls partly on the other surface; measured on the real Ouster captures).
 //!
 //! The scenes add what a real hall holds (the lab: painted walls, a plain floor, clutter);
 //! with `ideal` every scene is the one it always was, frame for frame.

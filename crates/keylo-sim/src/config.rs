@@ -84,7 +84,8 @@ pub struct SimConfig {
     /// `ideal` (the shading model alone), or `ouster`: what real OS0-128 signal images show
     /// — their signal level, per-beam gains that wander with range, noise and near-field
     /// fall-off, weak returns that break up, pixels that read a fraction of their signal now and
-    /// then — and, in the lab, a hall's painted walls, tiled floor and clutter
+    /// then or beside a range jump — and, in the lab, a hall's painted walls, tiled floor and
+    /// clutter
     /// (docs/results/sim-realism.md).
     pub appearance: crate::Appearance,
 }
