@@ -11,7 +11,7 @@
 //! * noise: a still sensor's images differ by ~√200 times the photon shot noise;
 //! * near field: below ~3 m the signal falls short of `1/r²` (the real images are brightest
 //!   on the walls, not on the floor next to the sensor);
-//! * dropouts: weak returns (dark, far or grazing surfaces) are lost at random.
+//! * dropouts: weak returns (dark, far or grazing surfaces) are lost at random;
 //! * partial drops: a pixel now and then reads a fraction of its signal, in short runs;
 //! * mixed pixels: a pixel beside a range jump along its row reads part of its signal (its
 //!   beam falls partly on the other surface; measured on the real Ouster captures).

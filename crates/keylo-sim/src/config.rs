@@ -85,8 +85,7 @@ pub struct SimConfig {
     /// — their signal level, per-beam gains that wander with range, noise and near-field
     /// fall-off, weak returns that break up, pixels that read a fraction of their signal now and
     /// then or beside a range jump — and, in the lab, a hall's painted walls, tiled floor and
-    /// clutter
-    /// (docs/results/sim-realism.md).
+    /// clutter (docs/results/sim-realism.md).
     pub appearance: crate::Appearance,
 }
 
