@@ -245,11 +245,15 @@ fn int8_model_finds_the_fp32_keypoints_and_descriptors() {
         ..cpu_params()
     };
     let mut int8 = SuperPoint::new(int8, &ctx).unwrap();
-    // Measured: signal 91 % and 91 % of the FP32 keypoints within 1 px (the bench's 97 % is on
-    // the TIERS images 100-199), range 69 % and 100 % (few keypoints; range images were not
-    // in the calibration set); descriptors' cosine 0.996. Bounds leave room for other CPUs'
-    // kernels (FP32 parts of the graph round differently with AVX-512).
-    let (mut found, mut total) = (0.0, 0usize);
+    // Measured: signal 95 % and 96 % of the FP32 keypoints within 1 px (the bench's 97 % is on
+    // the TIERS images 100-199), range 91 % and 89 % (range images were not in the calibration
+    // set); descriptors' cosine 0.995. INT8 also finds weak keypoints that FP32 rounds below
+    // the confidence threshold on these low-texture frames of a small room: 137 / 124 and
+    // 139 / 119 keypoints on the signal images, 61 / 35 and 59 / 47 on the range images, 1.22
+    // times FP32's count over the four (1.02 on the TIERS images; the model's header says
+    // why). Bounds leave room for other CPUs' kernels (FP32 parts of the graph round
+    // differently with AVX-512).
+    let (mut found, mut total, mut found_count) = (0.0, 0usize, 0usize);
     for frame in common::os0_frames() {
         for image in common::images(&frame, config.clone()) {
             let (a, b) = (fp32.run(&image).unwrap(), int8.run(&image).unwrap());
@@ -264,7 +268,7 @@ fn int8_model_finds_the_fp32_keypoints_and_descriptors() {
             }
             let count = b.0.len() as f64 / a.0.len() as f64;
             assert!(
-                (0.75..=1.25).contains(&count),
+                (0.75..=2.0).contains(&count),
                 "{name}: {} vs {}",
                 b.0.len(),
                 a.0.len()
@@ -272,12 +276,18 @@ fn int8_model_finds_the_fp32_keypoints_and_descriptors() {
             assert!(cosine > 0.99, "{name}: mean cosine {cosine}");
             found += share * a.0.len() as f64;
             total += a.0.len();
+            found_count += b.0.len();
         }
     }
     let share = found / total as f64;
     assert!(
-        share >= 0.85,
+        share >= 0.88,
         "{share} of the FP32 keypoints within 1 px over every image"
+    );
+    let count = found_count as f64 / total as f64;
+    assert!(
+        (0.8..=1.4).contains(&count),
+        "INT8 found {count} times FP32's keypoints over every image"
     );
 }
 
