@@ -5,7 +5,12 @@
 use nalgebra::{Isometry3, Point3};
 use rayon::prelude::*;
 
+use super::time_table::distinct_times;
 use crate::se3;
+
+/// Deskew by a table of transforms when a scan has at most one distinct time per this many
+/// points (a spinning sensor's columns), else by one exponential per point.
+const POINTS_PER_TIME: usize = 16;
 
 /// Deskews `points` in place; a no-op when all times are equal.
 pub fn deskew(points: &mut [Point3<f64>], times: &[f64], last_delta: &Isometry3<f64>) {
@@ -34,14 +39,26 @@ pub fn deskew_in_span(
         return;
     }
     let omega = se3::log(last_delta);
+    let motion = |t: f64| se3::exp(&(omega * ((t - min) / span - 1.0)));
+    // The same time gives the same transform, so the table changes no bit of the result.
+    if let Some((values, index)) = distinct_times(times, points.len() / POINTS_PER_TIME) {
+        let motions: Vec<Isometry3<f64>> = values
+            .par_iter()
+            .with_min_len(256)
+            .map(|&t| motion(t))
+            .collect();
+        points
+            .par_iter_mut()
+            .zip(index.par_iter())
+            .with_min_len(4096)
+            .for_each(|(p, &i)| *p = motions[i as usize] * *p);
+        return;
+    }
     points
         .par_iter_mut()
         .zip(times.par_iter())
         .with_min_len(4096)
-        .for_each(|(p, t)| {
-            let s = (t - min) / span;
-            *p = se3::exp(&(omega * (s - 1.0))) * *p;
-        });
+        .for_each(|(p, &t)| *p = motion(t) * *p);
 }
 
 #[cfg(test)]
@@ -66,6 +83,37 @@ mod tests {
                 (p.coords - Vector3::new(9.0, 0.0, 0.0)).norm() < 1e-9,
                 "{p}"
             );
+        }
+    }
+
+    /// Column times repeated over rows take the table; per-point times do not. Either way the
+    /// points are those of one exponential per point, bit for bit.
+    #[test]
+    fn the_table_of_column_times_changes_no_bit() {
+        let delta = Isometry3::from_parts(
+            Translation3::new(0.8, -0.1, 0.02),
+            UnitQuaternion::from_euler_angles(0.01, -0.02, 0.05),
+        );
+        let omega = se3::log(&delta);
+        for columns in [64usize, 4096] {
+            let times: Vec<f64> = (0..4096)
+                .map(|i| 1.7e9 + (i % columns) as f64 * 0.1 / columns as f64)
+                .collect();
+            let pts: Vec<Point3<f64>> = (0..4096)
+                .map(|i| {
+                    let a = f64::from(i) * 0.37;
+                    Point3::new(5.0 * a.cos(), 5.0 * a.sin(), f64::from(i % 7) - 3.0)
+                })
+                .collect();
+            let (min, max) = time_span(&times);
+            let expected: Vec<Point3<f64>> = pts
+                .iter()
+                .zip(&times)
+                .map(|(p, t)| se3::exp(&(omega * ((t - min) / (max - min) - 1.0))) * p)
+                .collect();
+            let mut got = pts.clone();
+            deskew(&mut got, &times, &delta);
+            assert_eq!(got, expected, "{columns} columns");
         }
     }
 

@@ -5,6 +5,7 @@ pub mod deskew;
 pub mod icp;
 pub(crate) mod neighbours;
 pub mod threshold;
+mod time_table;
 pub mod voxel_map;
 
 use crate::frame_step;
