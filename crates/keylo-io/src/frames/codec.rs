@@ -74,9 +74,27 @@ impl Reader<'_> {
         self.at += N;
         a
     }
-    fn f32s(&mut self, n: usize) -> Vec<f32> {
-        (0..n).map(|_| f32::from_le_bytes(self.take())).collect()
+    /// The next `n` bytes (the caller has checked the length).
+    fn slice(&mut self, n: usize) -> &[u8] {
+        let s = &self.bytes[self.at..self.at + n];
+        self.at += n;
+        s
     }
+    fn f32s(&mut self, n: usize) -> Vec<f32> {
+        self.slice(4 * n).chunks_exact(4).map(f32_le).collect()
+    }
+    fn points(&mut self, n: usize) -> Vec<Point3<f32>> {
+        self.slice(12 * n)
+            .chunks_exact(12)
+            .map(|c| Point3::new(f32_le(&c[..4]), f32_le(&c[4..8]), f32_le(&c[8..])))
+            .collect()
+    }
+}
+
+/// A little-endian f32 from 4 bytes.
+#[inline]
+fn f32_le(b: &[u8]) -> f32 {
+    f32::from_le_bytes([b[0], b[1], b[2], b[3]])
 }
 
 /// Parses a frame file's bytes; `path` names it in errors.
@@ -110,11 +128,7 @@ pub fn decode(path: &Path, bytes: &[u8], beams: &Arc<BeamGeometry>) -> Result<Li
     let timestamp = f64::from_le_bytes(r.take());
     let column_times = (0..cols).map(|_| f64::from_le_bytes(r.take())).collect();
     let (range, signal, reflectivity, near_ir) = (r.f32s(n), r.f32s(n), r.f32s(n), r.f32s(n));
-    let xyz = r.f32s(3 * n);
-    let points = xyz
-        .chunks_exact(3)
-        .map(|c| Point3::new(c[0], c[1], c[2]))
-        .collect();
+    let points = r.points(n);
     let valid = bytes[r.at..].iter().map(|b| *b != 0).collect();
     Ok(LidarFrame {
         index,

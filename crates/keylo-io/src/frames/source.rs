@@ -1,3 +1,4 @@
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -46,6 +47,8 @@ pub struct FramesSource {
     files: Vec<PathBuf>,
     next: usize,
     beams: Arc<BeamGeometry>,
+    /// The last frame file's bytes (the allocation is reused).
+    buf: Vec<u8>,
 }
 
 impl FramesSource {
@@ -92,8 +95,19 @@ impl FramesSource {
             files,
             next: 0,
             beams: Arc::new(manifest.beams),
+            buf: Vec::new(),
         })
     }
+}
+
+/// Reads the file at `path` into `buf`, whose allocation is reused from frame to frame (a
+/// fresh 4 MB buffer per frame costs the kernel's zeroing of fresh pages).
+fn read_into(path: &Path, buf: &mut Vec<u8>) -> Result<(), IoError> {
+    buf.clear();
+    std::fs::File::open(path)
+        .and_then(|mut f| f.read_to_end(buf))
+        .map(|_| ())
+        .map_err(|e| IoError::io(path, e))
 }
 
 fn list_frames(dir: &Path) -> Result<Vec<PathBuf>, IoError> {
@@ -119,9 +133,8 @@ impl ImageSource for FramesSource {
         let path = self.files.get(self.next)?;
         self.next += 1;
         let (rows, cols) = (self.rows, self.cols);
-        let frame = std::fs::read(path)
-            .map_err(|e| IoError::io(path, e))
-            .and_then(|bytes| codec::decode(path, &bytes, &self.beams))
+        let frame = read_into(path, &mut self.buf)
+            .and_then(|()| codec::decode(path, &self.buf, &self.beams))
             .and_then(|f| {
                 if (f.rows, f.cols) == (rows, cols) {
                     Ok(f)
