@@ -16,11 +16,10 @@ import glob
 import pathlib
 import sys
 
-import cv2
 import numpy as np
 import onnx
 import onnxruntime as ort
-from onnx import helper, numpy_helper
+from onnx import numpy_helper
 from scipy.ndimage import maximum_filter
 from scipy.spatial import cKDTree
 
@@ -32,16 +31,6 @@ def session(model):
     opts = ort.SessionOptions()
     opts.intra_op_num_threads = 2
     return ort.InferenceSession(model, opts, providers=["CPUExecutionProvider"])
-
-
-def load(path, gamma):
-    im = cv2.imread(path, cv2.IMREAD_GRAYSCALE)
-    if im is None:
-        raise SystemExit(f"{path}: not a readable image")
-    if gamma != 1.0:
-        im = np.round(255 * (im / 255.0) ** gamma).astype(np.uint8)
-    x = cv2.resize(im, (q.WIDTH, q.HEIGHT), interpolation=cv2.INTER_LINEAR).astype(np.float32) / 255
-    return np.stack([x, x])[None]
 
 
 def keypoints(sess, x, conf=0.015, radius=4, border=4):
@@ -67,15 +56,6 @@ def head_ranges(int8_model):
     return out
 
 
-def head_values(fp32_model):
-    """A session of the FP32 model (BatchNorms rewritten as the quantizer does) that also
-    outputs HEAD_TENSORS."""
-    m = q.batchnorm_to_add(onnx.load(fp32_model))
-    for t in q.HEAD_TENSORS:
-        m.graph.output.append(helper.make_tensor_value_info(t, onnx.TensorProto.FLOAT, None))
-    return ort.InferenceSession(m.SerializeToString(), providers=["CPUExecutionProvider"])
-
-
 def main(argv):
     if "--" not in argv or argv.index("--") < 2:
         raise SystemExit(__doc__)
@@ -83,7 +63,9 @@ def main(argv):
     fp32, int8s = session(models[0]), models[1:]
     sessions = [session(m) for m in int8s]
     ranges = [head_ranges(m) for m in int8s]
-    head = head_values(models[0])
+    # The FP32 model with its BatchNorms rewritten as the quantizer does, so that the head's
+    # tensors are the ones the INT8 models quantize.
+    head = q.session_with_outputs(q.batchnorm_to_add(onnx.load(models[0])), q.HEAD_TENSORS)
     relu = q.HEAD_TENSORS[0]
     print("group | images | FP32 keypoints | per INT8 model: keypoints, FP32's within 1 px, "
           "head ReLU values clipped (per 10 000), largest / range")
@@ -97,7 +79,7 @@ def main(argv):
         n32, n8, hit = 0, [0] * len(int8s), [0] * len(int8s)
         clipped, size, largest = [0] * len(int8s), 0, 0.0
         for f in files:
-            x = load(f, gamma)
+            x = q.image(f, gamma)
             a = keypoints(fp32, x)
             n32 += len(a)
             v = head.run([relu], {"image": x})[0]

@@ -121,25 +121,32 @@ def move_adds_behind_maxpools(g):
         g.node.insert(list(g.node).index(pool) + 1, add)
 
 
-def image(path):
+def image(path, gamma=1.0):
+    """The network's input for an 8-bit image (gamma, if any, applied to the 8-bit image)."""
     im = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
     if im is None:
         raise SystemExit(f"{path}: not a readable image")
+    if gamma != 1.0:
+        im = np.round(255 * (im / 255.0) ** gamma).astype(np.uint8)
     im = cv2.resize(im, (WIDTH, HEIGHT), interpolation=cv2.INTER_LINEAR).astype(np.float32) / 255
     return np.stack([im, im])[None]
 
 
-def head_ranges(prepared, folder):
-    """Step 3: min and max of HEAD_TENSORS over the calibration images, FP32."""
+def session_with_outputs(model, tensors):
+    """An ONNX Runtime session of `model` (CPU) that also outputs the named inner tensors."""
     import onnxruntime as ort
-    model = onnx.load(prepared)
     known = {o for n in model.graph.node for o in n.output}
-    missing = [t for t in HEAD_TENSORS if t not in known]
+    missing = [t for t in tensors if t not in known]
     if missing:
         raise SystemExit(f"no tensor {missing}: not the layout of export_superpoint_onnx.py")
-    for t in HEAD_TENSORS:
+    for t in tensors:
         model.graph.output.append(helper.make_tensor_value_info(t, onnx.TensorProto.FLOAT, None))
-    session = ort.InferenceSession(model.SerializeToString(), providers=["CPUExecutionProvider"])
+    return ort.InferenceSession(model.SerializeToString(), providers=["CPUExecutionProvider"])
+
+
+def head_ranges(prepared, folder):
+    """Step 3: min and max of HEAD_TENSORS over the calibration images, FP32."""
+    session = session_with_outputs(onnx.load(prepared), HEAD_TENSORS)
     lo, hi = {t: np.inf for t in HEAD_TENSORS}, {t: -np.inf for t in HEAD_TENSORS}
     reader = Calibration(folder)
     while (feed := reader.get_next()) is not None:

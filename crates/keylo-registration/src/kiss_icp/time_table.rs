@@ -43,11 +43,9 @@ pub fn distinct_times(times: &[f64], limit: usize) -> Option<(Vec<f64>, Vec<u32>
     Some((values, index))
 }
 
-/// Fibonacci hashing of the bits to a slot (`shift` = 64 − log2(slots)).
+/// Fibonacci hashing of the bits to a slot (`shift` = 64 − log2(slots), below 64: a table
+/// has at least `LOAD` slots).
 fn slot_of(bits: u64, shift: u32) -> usize {
-    if shift >= u64::BITS {
-        return 0;
-    }
     (bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> shift) as usize
 }
 
