@@ -4,7 +4,8 @@ percentile of |pixel − mean of the pixels above and below| (row residual) and 
 size and resized to 1024×64 (linear) as the keypoint study sees them.
 
     /usr/bin/python3 scripts/sim/row_residual.py ../shared/data/tiers_signal
-    # simulated: a keylo frame folder, its signal made 8-bit as the real images (counts / 256)
+    # simulated: a keylo frame folder, its signal made 8-bit as the real images were (Ouster's
+    # ROS driver: auto exposure and square root; driver_image.py)
     keylo sim --scene lab --frames 24 --set appearance=ouster --set columns=2048 \
         --set speed_scale=0 --set sway_scale=0 --out /tmp/lab-still
     /usr/bin/python3 scripts/sim/row_residual.py /tmp/lab-still
@@ -21,12 +22,15 @@ import sys
 import cv2
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(__file__))
+from driver_image import driver_image  # noqa: E402
+
 IMAGES = 24
 BANDS = 8
 
 
 def klf_signal(path):
-    """The signal of a keylo frame file (docs/formats.md) as uint8(counts / 256)."""
+    """The signal of a keylo frame file (docs/formats.md) as the driver's 8-bit image."""
     data = open(path, "rb").read()
     if data[:4] != b"KLF1":
         sys.exit(f"{path}: not a keylo frame file (no KLF1 magic)")
@@ -34,7 +38,7 @@ def klf_signal(path):
     n = rows * cols
     start = 28 + 8 * cols + 4 * n
     counts = np.frombuffer(data, "<f4", n, start).reshape(rows, cols)
-    return np.clip(counts / 256, 0, 255).astype(np.uint8)
+    return driver_image(counts.astype(np.float64))
 
 
 def images(path):

@@ -2,15 +2,19 @@
 //! or `ouster`, the effects measured on real OS0-128 signal images (the TIERS images of the
 //! paper's keypoint study; `keylo sim realism`, docs/results/sim-realism.md):
 //!
-//! * signal level: real indoor returns are tens of thousands of counts (median grey level 115
-//!   of the 8-bit images made as `counts / 256`), `SIGNAL_SCALE` times the ideal model's;
+//! * signal level: the real images are Ouster's ROS driver's (auto exposure, then a square
+//!   root; `[image.normalise] method = "ouster-ros"`), whose grey steps in dark regions
+//!   (17, 24, 29, 34 … = 17 · √k) put the 90th percentile of the counts near 200;
 //! * per-beam gain: rows repeat a pattern of four gains that deepens in the middle rows
-//!   (one beam of four down to 0.75–0.85 of its neighbours), measured per beam;
+//!   (one beam of four down to 0.75–0.85 of its neighbours in grey), measured per beam;
 //! * per-beam range response: each beam's gain also wanders with range, differently for
 //!   every beam, so a surface shows row-to-row streaks the fixed gains do not explain;
-//! * noise: a still sensor's images differ by ~√200 times the photon shot noise;
-//! * near field: below ~3 m the signal falls short of `1/r²` (the real images are brightest
+//! * noise: a still sensor's counts vary as photon shot noise (Poisson);
+//! * near field: below ~4 m the signal falls short of `1/r²` (the real images are brightest
 //!   on the walls, not on the floor next to the sensor);
+//! * incidence: grazing surfaces are darker than Lambert's law says (cos² of the angle);
+//! * every return the sensor reports has at least one count (the real images have almost
+//!   no black pixels);
 //! * dropouts: weak returns (dark, far or grazing surfaces) are lost at random;
 //! * partial drops: a pixel now and then reads a fraction of its signal, in short runs;
 //! * mixed pixels: a pixel beside a range jump along its row reads part of its signal (its
@@ -37,10 +41,23 @@ pub enum Appearance {
     Ouster,
 }
 
-/// Real signal counts over the ideal model's.
-const SIGNAL_SCALE: f64 = 84.0;
+/// Real signal counts over the ideal model's. The TIERS images' dark regions take the grey
+/// levels 17, 24, 29, 34, 38, 41 … of `17 · √k`: under the driver's exposure (`0.9 · counts
+/// / hi` when the 10th percentile is low, then the square root) one count reads grey 17 when
+/// `hi`, the 90th percentile of the frame's non-zero counts, is about 200. The still lab's
+/// frames with this scale: `hi` 208 (median over 24 layouts).
+const SIGNAL_SCALE: f64 = 0.38;
 
-/// Signal gain of each beam of the real OS0-128 (normalised to mean 1): a pattern of four
+/// The gain table below is measured on the driver's square-root images, as grey ratios; in
+/// counts each gain is its 1.5th power. Measured as the table was (`beam_gains.py`: per row,
+/// the median pixel over the mean of the rows ±1, ±2), the still lab then shows a spread
+/// over rows of 0.094 (per eighth of the rows, top first: 0.027 0.034 0.081 0.121 0.104
+/// 0.137 0.127 0.050) against the real 0.089 (0.027 0.030 0.076 0.115 0.100 0.128 0.124
+/// 0.047); with the square, the plain inverse of the square root, 0.123; with the table as
+/// it is, 0.063 (without the range response, which adds its own spread).
+const BEAM_GAIN_POWER: f64 = 1.5;
+
+/// Grey-level gain of each beam of the real OS0-128 (normalised to mean 1): a pattern of four
 /// that deepens in the middle rows. Made by `scripts/sim/beam_gains.py` from the 200 TIERS
 /// images (`/usr/bin/python3 scripts/sim/beam_gains.py ../shared/data/tiers_signal`).
 #[rustfmt::skip]
@@ -82,36 +99,55 @@ const RANGE_WANDER_STEP_M: f64 = 1.0;
 /// capture falls from 0.21 below 1.5 m to 0.13 at 3–4 m.
 const RANGE_WANDER_FADE_M: f64 = 5.0;
 
-/// Range below which the real signal falls short of `1/r²`, metres.
-const NEAR_FIELD_M: f64 = 3.0;
+/// Range below which the real signal falls short of `1/r²`, metres: with the driver's square
+/// root, the real images' row profile (mean grey per eighth of the rows, top first: 128 151
+/// 161 151 136 109 69 58) wants a dark floor next to the sensor; the still lab with 4 m:
+/// 136 158 172 176 156 94 60 69.
+const NEAR_FIELD_M: f64 = 4.0;
 
-/// Variance of the real signal over its mean: consecutive images of a still sensor differ by
-/// σ ≈ 10 grey levels (2 600 counts) at 30 000 counts and ≈ 5 at 10 000 (57 still pairs of the
-/// TIERS images), about √200 times the photon shot noise.
-const NOISE_FACTOR: f64 = 200.0;
+/// Variance of the real signal over its mean: photon shot noise alone. Under the driver's
+/// square root such noise reads about the same number of grey levels whatever the signal
+/// (8.5 when one count is grey 17): the still TIERS images differ from their median by a
+/// robust σ of 7.41 grey levels, and the still lab by 7.41 with this factor (5.93 with 0.76,
+/// 8.15 with 1.2; `scripts/sim/noise_correlation.py`, 24 frames each).
+const NOISE_FACTOR: f64 = 1.0;
+
+/// Extra power of the cosine of incidence: the signal falls as cos² of the angle of
+/// incidence rather than Lambert's cos. With the driver's square root and Lambert's law
+/// alone the still lab's grazing floor and ceiling read too bright: grey percentiles 10 / 25
+/// / 50 of 53 / 76 / 136 against the real 29 / 56 / 115, mean grey per eighth of the rows
+/// 156 173 180 182 162 108 78 82 against 128 151 161 151 136 109 69 58; with cos²: 35 / 60 /
+/// 119 and 136 158 172 176 156 94 60 69.
+const GRAZING_POWER: f64 = 1.0;
+
+/// Fewest counts of a return the sensor reports.
+const MIN_RETURN_COUNTS: f64 = 1.0;
 
 /// Model signal (counts of the ideal model) at which a return is lost one time in two: weak
 /// returns of dark and glossy surfaces break up. Kept low: the real images have almost no
-/// empty pixels (0.1 % are 0), so most of the weak real returns are dim, not lost.
-const DROPOUT_COUNTS: f64 = 15.0;
+/// black pixels (0.13 % are 0; the still lab: 0.45 %), so most of the weak real returns are
+/// dim, not lost: their one to four counts read grey 17–34.
+const DROPOUT_COUNTS: f64 = 4.0;
 
 /// Partial drops, as the TIERS images show them (`scripts/sim/partial_drops.py`: 40 still
-/// images, each pixel against its median over them). Pixels below half their median, by
-/// median grey level g (`counts / 256`): 1.01 % at 40–80, 0.92 % at 80–120, 0.20 % at
-/// 120–160, 0.14 % above (the lab with these constants: 1.18, 0.89, 0.30, 0.05 %); more on the
-/// near floor (the last eighth of the rows: 4.7 %; not modelled). Runs along a row: 78 % one
-/// pixel long, 15 % two, 4 % three (the lab: 78, 14, 4 %). A dropped pixel reads 0.14 / 0.28 /
-/// 0.38 of its median (10th / 50th / 90th percentile). The OS0-128 capture of
-/// `../shared/data/ouster` (firmware 3.0.1, 1024 columns) shows none: 0 of 22 911 pixel pairs
-/// of its two consecutive frames differ by a factor of two. 25 600 counts is g = 100.
+/// images, each pixel against its median over them). Pixels below half their median grey,
+/// by median grey level g: 1.01 % at 40–80, 0.92 % at 80–120, 0.20 % at 120–160, 0.14 %
+/// above (the still lab with these constants: 1.86, 0.69, 0.08, 0.01 %: its shot noise
+/// alone drops dim pixels that far now and then); more on the near floor (the last eighth
+/// of the rows: 4.7 %; not modelled). Runs along a row: 78 % one pixel long, 15 % two, 4 %
+/// three (the lab: 85, 10, 2 %). A dropped pixel reads 0.14 / 0.28 / 0.38 of its median grey
+/// (10th / 50th / 90th percentile; the lab 0.16 / 0.33 / 0.46), so 0.02 / 0.08 / 0.14 of
+/// its counts under the driver's square root: `low`–`high` are counts. Grey 100 is 34 counts when one count is grey 17.
+/// The OS0-128 capture of `../shared/data/ouster` (firmware 3.0.1, 1024 columns) shows none:
+/// 0 of 22 911 pixel pairs of its two consecutive frames differ by a factor of two.
 const PARTIAL_DROPS: PartialDrops = PartialDrops {
     rate: 0.01,
-    reference: 25_600.0,
+    reference: 34.0,
     exponent: 4.5,
     max_rate: 0.01,
     continue_prob: 0.25,
-    low: 0.1,
-    high: 0.5,
+    low: 0.01,
+    high: 0.25,
 };
 
 /// Mixed pixels, as the real Ouster captures show them (`scripts/sim/mixed_pixels.py`): a
@@ -152,6 +188,22 @@ impl Appearance {
         }
     }
 
+    /// Extra power of the cosine of incidence in the signal (0 for `ideal`: Lambert's law).
+    pub fn grazing_power(self) -> f64 {
+        match self {
+            Self::Ideal => 0.0,
+            Self::Ouster => GRAZING_POWER,
+        }
+    }
+
+    /// Fewest counts of a reported return (0 for `ideal`: its shot noise may read 0).
+    pub fn min_return_counts(self) -> f64 {
+        match self {
+            Self::Ideal => 0.0,
+            Self::Ouster => MIN_RETURN_COUNTS,
+        }
+    }
+
     /// Variance of the signal over its mean (1: shot noise alone).
     pub fn noise_factor(self) -> f64 {
         match self {
@@ -179,7 +231,7 @@ impl Appearance {
                     let block = (r / 4) * 128 / rows.max(1);
                     let i = (4 * block + r % 4).min(127);
                     BeamResponse {
-                        gain: SIGNAL_SCALE * OS0_128_BEAM_GAINS[i],
+                        gain: SIGNAL_SCALE * OS0_128_BEAM_GAINS[i].powf(BEAM_GAIN_POWER),
                         wander: RANGE_WANDER,
                         seed: hash_words(&[0xBEA4_4E5F, i as u64]),
                     }

@@ -34,16 +34,30 @@ fn valid_signal(f: &LidarFrame) -> Vec<f32> {
         .collect()
 }
 
+/// The `q`-th quantile (0–1) of `v`.
+fn quantile(mut v: Vec<f32>, q: f64) -> f32 {
+    v.sort_by(f32::total_cmp);
+    v[((v.len() - 1) as f64 * q) as usize]
+}
+
 #[test]
 fn ouster_signal_is_at_the_real_level_and_deterministic() {
     let sim = still(Appearance::Ouster, 2);
     let f = sim.frame(0);
     assert_eq!(f, still(Appearance::Ouster, 2).frame(0));
-    // The real images' median grey level is about 115 of counts / 256.
-    let grey = median(valid_signal(&f)) / 256.0;
-    assert!((60.0..200.0).contains(&grey), "median grey {grey}");
-    let ideal = median(valid_signal(&still(Appearance::Ideal, 1).frame(0))) / 256.0;
-    assert!(ideal < 10.0, "ideal median grey {ideal}");
+    // One count reads grey 17 in the real images: their 90th percentile is about 200 counts.
+    let signal = valid_signal(&f);
+    let p90 = quantile(signal.clone(), 0.9);
+    assert!(
+        (120.0..350.0).contains(&p90),
+        "90th percentile {p90} counts"
+    );
+    // Every reported return has a count; weak ones have only a few.
+    assert!(signal.iter().all(|&s| s >= 1.0));
+    assert!(quantile(signal, 0.02) <= 4.0);
+    // The ideal model's counts are the shading model's photons, far more.
+    let ideal = quantile(valid_signal(&still(Appearance::Ideal, 1).frame(0)), 0.9);
+    assert!(ideal > 10.0 * p90, "ideal 90th percentile {ideal}");
 }
 
 #[test]
@@ -53,7 +67,8 @@ fn ouster_rows_show_the_four_beam_pattern() {
         let row = &f.signal[r * f.cols..(r + 1) * f.cols];
         row.iter().map(|&s| f64::from(s)).sum::<f64>() / f.cols as f64
     };
-    // Rows 44..100: every fourth beam (phase 3) is the weak one, 0.75–0.87 of the others.
+    // Rows 44..100: every fourth beam (phase 3) is the weak one, 0.75–0.87 of the others in
+    // grey, so 0.65–0.81 in counts (the gains' 1.5th power).
     let (mut weak, mut other) = (0.0, 0.0);
     for r in 44..100 {
         if r % 4 == 3 {
@@ -63,7 +78,7 @@ fn ouster_rows_show_the_four_beam_pattern() {
         }
     }
     let ratio = weak / other;
-    assert!((0.7..0.93).contains(&ratio), "weak/other beams {ratio}");
+    assert!((0.6..0.88).contains(&ratio), "weak/other beams {ratio}");
 }
 
 #[test]
@@ -76,9 +91,9 @@ fn still_ouster_frames_differ_by_the_measured_noise() {
     for i in 0..a.signal.len() {
         let (sa, sb) = (f64::from(a.signal[i]), f64::from(b.signal[i]));
         let mean = 0.5 * (sa + sb);
-        if a.valid[i] && b.valid[i] && (5_000.0..50_000.0).contains(&mean) {
-            // (a − b) / √2 has the variance of one frame's noise: 200 · mean.
-            z.push(((sa - sb) / (2.0 * 200.0 * mean).sqrt()) as f32);
+        if a.valid[i] && b.valid[i] && (20.0..200.0).contains(&mean) {
+            // (a − b) / √2 has the variance of one frame's noise: the mean (shot noise).
+            z.push(((sa - sb) / (2.0 * mean).sqrt()) as f32);
         }
     }
     assert!(z.len() > 10_000, "{}", z.len());

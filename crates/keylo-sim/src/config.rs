@@ -82,10 +82,12 @@ pub struct SimConfig {
     /// carried sensor); 0 with `speed_scale = 0` holds the sensor still.
     pub sway_scale: f64,
     /// `ideal` (the shading model alone), or `ouster`: what real OS0-128 signal images show
-    /// — their signal level, per-beam gains that wander with range, noise and near-field
-    /// fall-off, weak returns that break up, pixels that read a fraction of their signal now and
-    /// then or beside a range jump — and, in the lab, a hall's painted walls, tiled floor and
-    /// clutter (docs/results/sim-realism.md).
+    /// — their signal level in counts, per-beam gains that wander with range, shot noise,
+    /// near-field and grazing fall-off, weak returns that break up, pixels that read a
+    /// fraction of their signal now and then or beside a range jump — and, in the lab, a
+    /// 4.5 m hall's painted walls, dark flecked floor and clutter. Its signal images look like
+    /// the real ones made as Ouster's ROS driver makes them (`[image.normalise] method =
+    /// "ouster-ros"`; docs/results/sim-realism.md).
     pub appearance: crate::Appearance,
 }
 

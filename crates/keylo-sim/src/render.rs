@@ -85,6 +85,14 @@ impl Renderer {
                 &mut f.signal,
                 &mut f.reflectivity,
             );
+            // The sensor reports whole counts, and at least its fewest for a return.
+            let least = self.shading.min_return_counts as f32;
+            for ((s, r), &ok) in f.signal.iter_mut().zip(&mut f.reflectivity).zip(&f.valid) {
+                if ok {
+                    *s = s.round().max(least);
+                    *r = r.round();
+                }
+            }
         }
         f
     }

@@ -78,6 +78,12 @@ pub struct Shading {
     /// signal is `s` counts drops out with probability `1 / (1 + (s / dropout_counts)²)`
     /// (0: never).
     pub dropout_counts: f64,
+    /// Fewest counts a reported return reads (0: a return's noise may read 0).
+    pub min_return_counts: f64,
+    /// Extra power of the cosine of incidence in the reported signal (0: Lambertian alone):
+    /// real floors, ceilings and walls seen at grazing angles are darker than Lambert's law
+    /// says. Returns do not depend on it.
+    pub grazing_power: f64,
     /// Returns measured far too low at random (see [`PartialDrops`]); `None`: never.
     pub partial_drops: Option<PartialDrops>,
     /// Returns beside a range jump dimmed (see [`MixedPixels`]); `None`: never.
@@ -122,7 +128,12 @@ impl Shading {
         } else {
             1.0
         };
-        let mean = beam.at(r_true) * near * model;
+        let grazing = if self.grazing_power > 0.0 {
+            cos_inc.powf(self.grazing_power)
+        } else {
+            1.0
+        };
+        let mean = beam.at(r_true) * near * grazing * model;
         let mut signal = counts(mean, self.noise_factor);
         if let Some(drops) = &self.partial_drops {
             signal *= drops.factor(mean, rng);
@@ -143,7 +154,7 @@ impl Shading {
             valid,
             range: range as f32,
             point: Point3::from(dir_sensor * range).cast::<f32>(),
-            signal: signal.round() as f32,
+            signal: signal.round().max(self.min_return_counts) as f32,
             reflectivity: (100.0 * albedo * (1.0 + refl_noise))
                 .round()
                 .clamp(0.0, 255.0) as f32,
@@ -205,6 +216,8 @@ mod tests {
             near_field_m: 0.0,
             noise_factor: 1.0,
             dropout_counts: 0.0,
+            min_return_counts: 0.0,
+            grazing_power: 0.0,
             partial_drops: None,
             mixed_pixels: None,
         }

@@ -47,6 +47,8 @@ impl Simulator {
             near_field_m: config.appearance.near_field_m(),
             noise_factor: config.appearance.noise_factor(),
             dropout_counts: config.appearance.dropout_counts(),
+            min_return_counts: config.appearance.min_return_counts(),
+            grazing_power: config.appearance.grazing_power(),
             partial_drops: config.appearance.partial_drops(),
             mixed_pixels: config.appearance.mixed_pixels(),
         };

@@ -31,12 +31,17 @@ pub enum Pattern {
     },
     /// Floor tiles of one material: each tile's albedo a little off the background's
     /// (`± contrast` of it) and mottled at a tenth of the tile size (wear, dirt, gloss),
-    /// with thin grout lines a little darker.
+    /// with thin grout lines a little darker; in a share `flecks` of its 0.1 m cells a small
+    /// bright fleck (3–7 cm across, four times the albedo). A real hall's floor seen at
+    /// grazing angles shows them as short bright streaks one row high that stay put from
+    /// frame to frame (docs/results/sim-realism.md).
     Flooring {
         /// Tile size.
         cell: f32,
         /// How far a tile's albedo is off the background's (share of it).
         contrast: f32,
+        /// Share of the 0.1 m cells holding a bright fleck (0: none).
+        flecks: f32,
     },
     /// One material with a fine mottle (gravel, soil, grass): albedo `± contrast` of the
     /// background's, varying smoothly over `cell`.
@@ -104,9 +109,11 @@ impl Material {
                 density,
             } => posters(seed, self.base, (cell_u, cell_v, density), u, v),
             Pattern::Tiles { cell } => tiles(seed, self.base, cell, u, v),
-            Pattern::Flooring { cell, contrast } => {
-                flooring(seed, self.base, (cell, contrast), u, v)
-            }
+            Pattern::Flooring {
+                cell,
+                contrast,
+                flecks,
+            } => flooring(seed, self.base, (cell, contrast, flecks), u, v),
             Pattern::Mottled { cell, contrast } => {
                 self.base * mottle(seed, contrast, u / cell, v / cell)
             }
@@ -173,14 +180,42 @@ fn tiles(seed: u64, base: f32, cell: f32, u: f32, v: f32) -> f32 {
     0.12 + 0.76 * unit(cell_hash(seed, 2, i, j))
 }
 
-fn flooring(seed: u64, base: f32, (cell, contrast): (f32, f32), u: f32, v: f32) -> f32 {
+/// Cell size and albedo gain of the floor's bright flecks.
+const FLECK_CELL_M: f32 = 0.1;
+const FLECK_GAIN: f32 = 4.0;
+
+fn flooring(
+    seed: u64,
+    base: f32,
+    (cell, contrast, flecks): (f32, f32, f32),
+    u: f32,
+    v: f32,
+) -> f32 {
     let (i, j, fu, fv) = cell_of(u, v, cell, cell);
     let grout = 0.01 / cell;
     if fu < grout || fv < grout {
         return base * 0.8;
     }
     let tile = 2.0 * unit(cell_hash(seed, 9, i, j)) - 1.0;
-    base * (1.0 + contrast * tile) * mottle(seed, contrast, 10.0 * u / cell, 10.0 * v / cell)
+    let albedo =
+        base * (1.0 + contrast * tile) * mottle(seed, contrast, 10.0 * u / cell, 10.0 * v / cell);
+    if flecks > 0.0 && in_fleck(seed, flecks, u, v) {
+        return (albedo * FLECK_GAIN).min(1.0);
+    }
+    albedo
+}
+
+/// Whether `(u, v)` lies on a fleck: a disc of radius 0.15–0.35 cells, somewhere in the
+/// middle of its cell, in a share `share` of the cells.
+fn in_fleck(seed: u64, share: f32, u: f32, v: f32) -> bool {
+    let (i, j, fu, fv) = cell_of(u, v, FLECK_CELL_M, FLECK_CELL_M);
+    let h = cell_hash(seed, 11, i, j);
+    if unit(h) >= share {
+        return false;
+    }
+    let r = |k: u64| unit(hash_words(&[h, k]));
+    let (cx, cy, radius) = (0.3 + 0.4 * r(1), 0.3 + 0.4 * r(2), 0.15 + 0.2 * r(3));
+    (fu - cx).powi(2) + (fv - cy).powi(2) < radius * radius
 }
 
 /// A factor `1 ± contrast` varying smoothly over the unit lattice of `(x, y)`.
@@ -258,6 +293,7 @@ mod tests {
         Pattern::Flooring {
             cell: 0.6,
             contrast: 0.3,
+            flecks: 0.3,
         },
         Pattern::Mottled {
             cell: 0.2,

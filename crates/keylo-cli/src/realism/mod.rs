@@ -26,7 +26,7 @@ pub const DEFAULT_COMBOS: &str =
 #[derive(Debug, Args)]
 pub struct RealismArgs {
     /// A folder of real LiDAR images (PNG, natural name order), e.g.
-    /// ../shared/data/tiers_signal (OS0-128 signal images, uint8(counts / 256)).
+    /// ../shared/data/tiers_signal (OS0-128 signal images of Ouster's ROS driver).
     #[arg(long)]
     pub real: PathBuf,
     /// Real images used (the first N).
@@ -48,11 +48,14 @@ pub struct RealismArgs {
     /// Simulated channels compared with the real images.
     #[arg(long, default_value = "signal,reflectivity,near-ir,range")]
     pub channels: String,
-    /// Counts → grey level of the simulated signal, as the real images were made (the TIERS
-    /// images: uint8(counts / 256)). The signal is also evaluated with keylo's default
-    /// per-frame stretch (`signal-stretched`); other channels always are.
-    #[arg(long, default_value_t = 1.0 / 256.0)]
-    pub signal_scale: f64,
+    /// Counts → grey level of the simulated signal as `counts · S` instead of the way the
+    /// real images were made. By default the signal becomes 8-bit as Ouster's ROS driver
+    /// makes its signal images, which the TIERS images are: auto exposure on the 10th and
+    /// 90th percentiles, then a square root (`[image.normalise] method = "ouster-ros"`). The
+    /// signal is also evaluated with keylo's default per-frame stretch (`signal-stretched`);
+    /// other channels always are.
+    #[arg(long, value_name = "S")]
+    pub signal_scale: Option<f64>,
     /// Detector/descriptor combinations evaluated.
     #[arg(long, default_value = DEFAULT_COMBOS)]
     pub combos: String,
@@ -197,13 +200,23 @@ fn channels(list: &str) -> Result<Vec<Channel>> {
 }
 
 /// Every simulated frame's image of each channel: the signal as the real images were made
-/// (`scale`) and stretched as keylo does by default; other channels stretched.
-fn sim_planes(sim: &Simulator, channels: &[Channel], scale: f64) -> Vec<(String, Vec<Plane>)> {
+/// (or `counts · scale`) and stretched as keylo does by default; other channels stretched.
+fn sim_planes(
+    sim: &Simulator,
+    channels: &[Channel],
+    scale: Option<f64>,
+) -> Vec<(String, Vec<Plane>)> {
     let stretched = Normalise::default();
-    let fixed = Normalise {
-        method: NormaliseMethod::Fixed,
-        scale,
-        ..Normalise::default()
+    let fixed = match scale {
+        Some(scale) => Normalise {
+            method: NormaliseMethod::Fixed,
+            scale,
+            ..Normalise::default()
+        },
+        None => Normalise {
+            method: NormaliseMethod::OusterRos,
+            ..Normalise::default()
+        },
     };
     let mut sets: Vec<(String, Normalise, Channel)> = Vec::new();
     for &c in channels {

@@ -3,6 +3,7 @@
 
 mod config;
 mod normalise;
+mod ouster_ros;
 mod resize;
 
 pub use config::{Interpolation, LidarImageConfig};
@@ -85,7 +86,7 @@ keylo_core::stage_params!(LidarImageConfig => "lidar" as ImageParams);
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.images.add::<LidarImageConfig>(
         LidarImageConfig::KIND,
-        "8-bit images of frame channels: normalise (fixed, percentile, equalise), then resize",
+        "8-bit images of frame channels: normalise (fixed, percentile, equalise, ouster-ros), then resize",
         |config, _ctx| Ok(Box::new(LidarImageBuilder::new(config)?)),
     );
 }

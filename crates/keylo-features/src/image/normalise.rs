@@ -1,5 +1,6 @@
 //! A frame channel (f32 per pixel) to 8 bits: fixed scale, percentile clip or histogram
-//! equalisation, then an optional gamma. Invalid pixels become 0.
+//! equalisation, then an optional gamma; or as Ouster's ROS driver does. Invalid pixels
+//! become 0.
 
 use serde::{Deserialize, Serialize};
 
@@ -20,13 +21,17 @@ pub enum NormaliseMethod {
     /// Histogram equalisation over the frame's valid pixels (each value becomes its rank,
     /// in 256 levels).
     Equalise,
+    /// As Ouster's ROS driver makes its signal images (the images of the paper): the frame's
+    /// 10th and 90th percentiles of non-zero values to 0.1 and 0.9, clipped, square root, top
+    /// byte of the 16-bit result. The other fields are not used.
+    OusterRos,
 }
 
 /// How one channel becomes an 8-bit image.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct Normalise {
-    /// `fixed`, `percentile` or `equalise`.
+    /// `fixed`, `percentile`, `equalise` or `ouster-ros`.
     pub method: NormaliseMethod,
     /// `fixed`: multiplier applied to the channel value (range in metres, signal in counts).
     pub scale: f64,
@@ -97,6 +102,7 @@ impl Normalise {
                 map_valid(values, valid, &mut out, |v| (v - lo) / span, &lut_gamma);
             }
             NormaliseMethod::Equalise => equalise(values, valid, &mut out, &lut_gamma),
+            NormaliseMethod::OusterRos => super::ouster_ros::driver_image(values, valid, &mut out),
         }
         out
     }
