@@ -25,6 +25,7 @@ fn height(look: Appearance) -> f32 {
         Appearance::Ouster => HALL_HEIGHT,
     }
 }
+
 /// Nominal walking speed, m/s.
 const SPEED: f64 = 1.0;
 
@@ -329,9 +330,10 @@ fn clutter(b: &mut SceneBuilder) {
 }
 
 /// Clutter counts of the `ouster` lab. Chosen, with the floor's flecks and how high wall
-/// items go, by a search of 60 random settings, each on 24 still layouts (`keylo sim
-/// realism`'s keypoint counts), for the most counts inside the real images' interquartile
-/// ranges; the choice holds on 24 other layouts (docs/results/sim-realism.md).
+/// items go, by a search of 60 random settings, each on 24 still layouts (the keypoint
+/// counts of `keylo sim realism`'s seven detectors), for the most counts inside the real
+/// images' interquartile ranges; the choice holds on 24 other layouts
+/// (docs/results/sim-realism.md).
 const CHAIRS: usize = 64;
 const FLOOR_ITEMS: usize = 110;
 const POLES: usize = 48;
