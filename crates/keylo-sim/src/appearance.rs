@@ -212,6 +212,15 @@ impl Appearance {
         }
     }
 
+    /// Whether the sensor has a real sensor's staggered beams (`ouster`, on an OS0-128;
+    /// [`crate::sensor::SensorModel::staggered`]).
+    pub fn staggered_beams(self) -> bool {
+        match self {
+            Self::Ideal => false,
+            Self::Ouster => true,
+        }
+    }
+
     /// The near-field range of the signal model (0: none).
     pub fn near_field_m(self) -> f64 {
         match self {

@@ -84,8 +84,10 @@ pub struct SimConfig {
     /// `ideal` (the shading model alone), or `ouster`: what real OS0-128 signal images show
     /// — their signal level in counts, per-beam gains that wander with range, shot noise,
     /// near-field and grazing fall-off, weak returns that break up, pixels that read a
-    /// fraction of their signal now and then or beside a range jump — and, in the lab, a
-    /// 4.5 m hall's painted walls, dark flecked floor and clutter. Its signal images look like
+    /// fraction of their signal now and then or beside a range jump, and (OS0-128) a real
+    /// sensor's staggered beams, whose offsets and beam origins leave near vertical edges
+    /// ragged — and, in the lab, a 4.5 m hall's painted walls, dark flecked floor and
+    /// clutter. Its signal images look like
     /// the real ones made as Ouster's ROS driver makes them (`[image.normalise] method =
     /// "ouster-ros"`; docs/results/sim-realism.md).
     pub appearance: crate::Appearance,

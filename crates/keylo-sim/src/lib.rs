@@ -30,6 +30,7 @@ pub mod sensor;
 pub mod shading;
 mod simulator;
 mod source;
+mod stagger;
 pub mod texture;
 pub mod world;
 

@@ -27,6 +27,13 @@ pub(crate) struct Renderer {
     beam_responses: Vec<BeamResponse>,
     /// Rays are cast this far (a bit past the max range, for the near-IR of far surfaces).
     cast_range: f32,
+    /// Per row, how many columns earlier its pixel fired (empty: none; see
+    /// [`SensorModel::column_lags`]).
+    lags: Vec<usize>,
+    /// Per row, the beam's azimuth offset, radians (empty: none).
+    beam_azimuths: Vec<f64>,
+    /// Distance from the lidar origin to the beam origins, metres.
+    beam_origin_m: f64,
 }
 
 impl Renderer {
@@ -36,7 +43,18 @@ impl Renderer {
         let beam_responses = look.beam_responses(sensor.rows);
         let beams = sensor.beam_geometry();
         let cast_range = (sensor.max_range_m * 1.2 + 1.0) as f32;
+        let lags = sensor.column_lags();
+        let (beam_azimuths, beam_origin_m) = match &sensor.stagger {
+            Some(st) => (
+                st.azimuth_deg.iter().map(|a| a.to_radians()).collect(),
+                st.origin_m,
+            ),
+            None => (Vec::new(), 0.0),
+        };
         Self {
+            lags,
+            beam_azimuths,
+            beam_origin_m,
             sensor,
             shading,
             seed,
@@ -59,10 +77,10 @@ impl Renderer {
     ) -> LidarFrame {
         let (rows, cols) = (self.sensor.rows, self.sensor.cols);
         let mut buf = vec![PixelReturn::default(); rows * cols];
+        let placements: Vec<Placement> = poses.iter().map(Placement::of).collect();
         buf.par_chunks_mut(rows)
-            .zip(poses.par_iter())
             .enumerate()
-            .for_each(|(c, (column, pose))| self.column(scene, index, c, pose, column));
+            .for_each(|(c, column)| self.column(scene, index, c, &placements, column));
         let mut f = LidarFrame::empty(index, t0, rows, cols, Arc::clone(&self.beams));
         f.column_times = column_times;
         for (c, column) in buf.chunks(rows).enumerate() {
@@ -97,27 +115,70 @@ impl Renderer {
         f
     }
 
-    /// Casts the `rows` pixels of column `col` from `pose` into `out` (top row first).
-    fn column(&self, scene: &Scene, frame: u64, col: usize, pose: &Pose, out: &mut [PixelReturn]) {
-        let az = self.sensor.azimuth_rad(col);
-        let (saz, caz) = az.sin_cos();
+    /// Casts the `rows` pixels of destaggered column `col` into `out` (top row first), each
+    /// from the placement (sensor pose) of the column it fired in.
+    fn column(
+        &self,
+        scene: &Scene,
+        frame: u64,
+        col: usize,
+        placements: &[Placement],
+        out: &mut [PixelReturn],
+    ) {
+        let cols = self.sensor.cols;
+        let beams = self.altitudes.iter().zip(&self.beam_responses);
+        for ((row, px), (&(ca, sa), beam)) in out.iter_mut().enumerate().zip(beams) {
+            let fired = match self.lags.get(row) {
+                Some(&lag) => (col + cols - lag) % cols,
+                None => col,
+            };
+            let place = &placements[fired];
+            let encoder = self.sensor.azimuth_rad(fired);
+            let az = encoder - self.beam_azimuths.get(row).copied().unwrap_or(0.0);
+            let (saz, caz) = az.sin_cos();
+            let dir_s = Vector3::new(ca * caz, ca * saz, sa);
+            let w = place.rot * dir_s.cast::<f32>();
+            let dir_w = GVec::new(w.x, w.y, w.z).normalize();
+            // The beam starts on the column's azimuth, `beam_origin_m` from the lidar origin.
+            let start_s = Vector3::new(encoder.cos(), encoder.sin(), 0.0) * self.beam_origin_m;
+            let origin = if self.beam_origin_m == 0.0 {
+                place.origin
+            } else {
+                let o = place.rot * start_s.cast::<f32>();
+                place.origin + GVec::new(o.x, o.y, o.z)
+            };
+            let hit = scene.world.cast(origin, dir_w, self.cast_range);
+            let mut rng = PixelRng::for_pixel(self.seed, frame, row, col);
+            *px = self
+                .shading
+                .pixel(hit.as_ref(), &dir_s, dir_w, beam, &mut rng);
+            if px.valid && self.beam_origin_m != 0.0 {
+                // Ouster's range runs from the lidar origin through the beam origin.
+                px.range += self.beam_origin_m as f32;
+                px.point += start_s.cast::<f32>();
+            }
+        }
+    }
+}
+
+/// A sensor pose as the caster uses it.
+#[derive(Debug, Clone, Copy)]
+struct Placement {
+    rot: nalgebra::Matrix3<f32>,
+    origin: GVec,
+}
+
+impl Placement {
+    fn of(pose: &Pose) -> Self {
         let rot = pose
             .rotation
             .to_rotation_matrix()
             .into_inner()
             .cast::<f32>();
         let t = pose.translation.vector.cast::<f32>();
-        let origin = GVec::new(t.x, t.y, t.z);
-        let beams = self.altitudes.iter().zip(&self.beam_responses);
-        for ((row, px), (&(ca, sa), beam)) in out.iter_mut().enumerate().zip(beams) {
-            let dir_s = Vector3::new(ca * caz, ca * saz, sa);
-            let w = rot * dir_s.cast::<f32>();
-            let dir_w = GVec::new(w.x, w.y, w.z).normalize();
-            let hit = scene.world.cast(origin, dir_w, self.cast_range);
-            let mut rng = PixelRng::for_pixel(self.seed, frame, row, col);
-            *px = self
-                .shading
-                .pixel(hit.as_ref(), &dir_s, dir_w, beam, &mut rng);
+        Self {
+            rot,
+            origin: GVec::new(t.x, t.y, t.z),
         }
     }
 }

@@ -1,7 +1,10 @@
 //! Ouster-like sensor intrinsics and the column/azimuth convention.
 //!
-//! Frames are produced **destaggered** with zero beam azimuth offsets: every pixel of a column
-//! shares the column's azimuth and firing time.
+//! Frames are produced **destaggered**. By default the beams have zero azimuth offsets: every
+//! pixel of a column shares the column's azimuth and firing time. A staggered sensor
+//! ([`SensorModel::staggered`], the `ouster` appearance's OS0-128; [`crate::stagger`]) has a
+//! real sensor's beam azimuth offsets and beam origins: pixel `(r, c)` is then the return of
+//! column `c − shift(r)`, fired at that column's time.
 //!
 //! * Sensor frame: x forward, y left, z up (Ouster "sensor frame").
 //! * Row 0 is the top beam; elevations are uniformly spaced from `+fov/2` down to `-fov/2`.
@@ -41,6 +44,20 @@ pub struct SensorModel {
     pub min_range_m: f64,
     /// Revolutions per second.
     pub frame_rate_hz: f64,
+    /// Staggered beams; `None`: every beam looks along its column's azimuth from the lidar
+    /// origin.
+    pub stagger: Option<Stagger>,
+}
+
+/// A staggered sensor's beams (see [`crate::stagger`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stagger {
+    /// Per beam, its azimuth offset, degrees, Ouster's convention (the beam looks at its
+    /// column's azimuth minus this), row 0 first.
+    pub azimuth_deg: Vec<f64>,
+    /// Distance from the lidar origin to the beam origins, metres (they lie on the column's
+    /// azimuth).
+    pub origin_m: f64,
 }
 
 impl SensorModel {
@@ -58,7 +75,35 @@ impl SensorModel {
             max_range_m: max_range_m.unwrap_or(max),
             min_range_m: MIN_RANGE_M,
             frame_rate_hz: FRAME_RATE_HZ,
+            stagger: None,
         }
+    }
+
+    /// This sensor with a real sensor's staggered beams, where one is at hand (OS0-128; other
+    /// models are returned as they are).
+    pub fn staggered(mut self) -> Self {
+        if self.model == "OS0-128" && self.rows == crate::stagger::OS0_128_BEAM_AZIMUTH_DEG.len() {
+            self.stagger = Some(Stagger {
+                azimuth_deg: crate::stagger::OS0_128_BEAM_AZIMUTH_DEG.to_vec(),
+                origin_m: crate::stagger::OS0_128_BEAM_ORIGIN_M,
+            });
+        }
+        self
+    }
+
+    /// Per row, how many columns earlier than its destaggered column its pixel fired (the
+    /// beam's azimuth offset in whole columns, as Ouster's `pixel_shift_by_row`, modulo the
+    /// columns); empty for an unstaggered sensor.
+    pub fn column_lags(&self) -> Vec<usize> {
+        let Some(st) = &self.stagger else {
+            return Vec::new();
+        };
+        let cols = self.cols.max(1);
+        st.azimuth_deg
+            .iter()
+            .map(|a| (a * cols as f64 / 360.0).round() as i64)
+            .map(|shift| shift.rem_euclid(cols as i64) as usize)
+            .collect()
     }
 
     /// Duration of one revolution, seconds.
@@ -90,7 +135,7 @@ impl SensorModel {
         col as f64 / self.cols as f64 * self.period()
     }
 
-    /// Unit direction of pixel `(row, col)` in the sensor frame.
+    /// Unit direction of pixel `(row, col)` in the sensor frame, for an unstaggered sensor.
     pub fn direction(&self, row: usize, col: usize) -> Vector3<f64> {
         let alt = self.altitude_deg(row).to_radians();
         let az = self.azimuth_rad(col);
@@ -107,16 +152,21 @@ impl SensorModel {
             .collect()
     }
 
-    /// The [`BeamGeometry`] of this sensor (zero beam azimuth offsets, zero beam origin offset).
+    /// The [`BeamGeometry`] of this sensor (zero beam azimuth offsets and beam origin offset
+    /// unless staggered).
     pub fn beam_geometry(&self) -> Arc<BeamGeometry> {
+        let (azimuth_deg, origin_to_beam_mm) = match &self.stagger {
+            Some(st) => (st.azimuth_deg.clone(), st.origin_m * 1e3),
+            None => (vec![0.0; self.rows], 0.0),
+        };
         Arc::new(BeamGeometry {
             model: self.model.to_string(),
             altitude_deg: (0..self.rows).map(|r| self.altitude_deg(r)).collect(),
-            azimuth_deg: vec![0.0; self.rows],
-            origin_to_beam_mm: 0.0,
+            azimuth_deg,
+            origin_to_beam_mm,
             columns_per_frame: self.cols,
             frame_rate_hz: self.frame_rate_hz,
-            column_lag_by_row: Vec::new(),
+            column_lag_by_row: self.column_lags(),
         })
     }
 }
@@ -157,5 +207,31 @@ mod tests {
         assert!((s.column_offset(512) - 0.05).abs() < 1e-12);
         let a = s.azimuth_rad(0);
         assert!(a > 0.0 && (a - PI).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_staggered_os0_shifts_its_rows_as_the_real_sensor_does() {
+        // `pixel_shift_by_row` of the sensor whose beam offsets these are, at 2048 columns
+        // (OS-0-128_v3.2.0-rc7_2048x10_dual_from_osf.json).
+        let real: [i64; 128] = [
+            62, 20, -21, -61, 59, 19, -20, -58, 57, 19, -19, -57, 56, 18, -19, -55, 54, 18, -18,
+            -54, 53, 17, -18, -53, 52, 17, -17, -51, 51, 17, -17, -51, 50, 16, -17, -50, 49, 16,
+            -17, -49, 49, 16, -16, -49, 48, 16, -16, -48, 48, 16, -16, -48, 48, 16, -16, -48, 48,
+            16, -16, -48, 48, 16, -16, -48, 47, 16, -16, -48, 48, 16, -16, -48, 48, 16, -16, -48,
+            48, 16, -16, -48, 48, 16, -16, -49, 49, 16, -16, -49, 49, 17, -16, -50, 50, 17, -16,
+            -50, 51, 17, -17, -51, 52, 18, -17, -52, 53, 18, -17, -53, 54, 18, -18, -54, 55, 19,
+            -18, -56, 57, 20, -19, -58, 59, 20, -19, -60, 61, 21, -20, -62,
+        ];
+        let s = SensorModel::new(SensorKind::Os0_128, 2048, None).staggered();
+        let lags = s.column_lags();
+        let expected: Vec<usize> = real.iter().map(|v| v.rem_euclid(2048) as usize).collect();
+        assert_eq!(lags, expected);
+        let g = s.beam_geometry();
+        assert_eq!(g.column_lag_by_row, lags);
+        assert!((g.origin_to_beam_mm - 27.116).abs() < 1e-9);
+        assert_eq!(g.azimuth_deg[0], 10.83);
+        // No table for the OS1-64: it stays unstaggered.
+        let os1 = SensorModel::new(SensorKind::Os1_64, 1024, None).staggered();
+        assert!(os1.stagger.is_none() && os1.column_lags().is_empty());
     }
 }

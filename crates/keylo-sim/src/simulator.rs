@@ -27,6 +27,11 @@ impl Simulator {
     pub fn new(config: &SimConfig) -> Result<Self, SimError> {
         config.validate()?;
         let sensor = SensorModel::new(config.sensor, config.columns, config.max_range_override());
+        let sensor = if config.appearance.staggered_beams() {
+            sensor.staggered()
+        } else {
+            sensor
+        };
         let scene = Scene::build(
             config.scene,
             config.seed,
