@@ -284,20 +284,9 @@ fn box_stack(b: &mut SceneBuilder, cx: f32, cy: f32, size: f32) {
 fn clutter(b: &mut SceneBuilder) {
     ceiling_lights(b);
     for _ in 0..DARK_ITEMS {
-        let (cx, cy) = wall_band(b);
+        let at = wall_band(b);
         let m = b.material(Pattern::Plain, 0.02, 0.05);
-        let (w, d, h) = (
-            b.rng.random_range(0.5..1.4f32),
-            b.rng.random_range(0.4..0.8f32),
-            b.rng.random_range(0.4..1.2f32),
-        );
-        let yaw = b.rng.random_range(-0.3..0.3);
-        b.prop(Object::cuboid(
-            [cx, cy, 0.5 * h],
-            [0.5 * w, 0.5 * d, 0.5 * h],
-            yaw,
-            m,
-        ));
+        standing_box(b, at, m, [0.5..1.4, 0.4..0.8, 0.4..1.2]);
     }
     for _ in 0..WALL_ITEMS {
         wall_item(b);
@@ -357,14 +346,21 @@ const WALL_ITEMS_TOP_M: f32 = 4.2;
 
 /// A tall cabinet or rack (1.8–2.6 m) with labels or panels, in the band along the walls.
 fn cabinet(b: &mut SceneBuilder) {
-    let (cx, cy) = wall_band(b);
+    let at = wall_band(b);
     let p = b.prop_pattern();
     let m = b.material(p, 0.2, 0.8);
-    let (w, d, h) = (
-        b.rng.random_range(0.5..1.2f32),
-        b.rng.random_range(0.4..0.7f32),
-        b.rng.random_range(1.8..2.6f32),
-    );
+    standing_box(b, at, m, [0.5..1.2, 0.4..0.7, 1.8..2.6]);
+}
+
+/// A box standing on the floor at `(cx, cy)`, its width, depth and height drawn from
+/// `sizes`, turned by up to 0.3 rad.
+fn standing_box(
+    b: &mut SceneBuilder,
+    (cx, cy): (f32, f32),
+    m: Material,
+    sizes: [std::ops::Range<f32>; 3],
+) {
+    let [w, d, h] = sizes.map(|r| b.rng.random_range(r));
     let yaw = b.rng.random_range(-0.3..0.3);
     b.prop(Object::cuboid(
         [cx, cy, 0.5 * h],
