@@ -158,18 +158,25 @@ def test_ctrl_c_stops_a_long_run_and_keeps_the_frames_done(tmp_path):
     import time
 
     script = tmp_path / "long.py"
+    # Ctrl-C as an interactive Python gets it: a test suite started in the background by a
+    # non-interactive shell passes SIGINT on ignored, and Python then installs no handler.
     script.write_text(
-        "import keylo, sys\n"
+        "import keylo, signal, sys\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "print('started', flush=True)\n"
         "records, summary = keylo.run({'source': {'kind': 'sim', 'frames': 100000,"
         " 'sensor': 'os1-64', 'columns': 512}})\n"
         "print(summary['interrupted'], summary['frames'], len(summary['trajectory']), flush=True)\n"
     )
     p = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
-    assert p.stdout.readline().strip() == "started"
-    time.sleep(3.0)
-    p.send_signal(signal.SIGINT)
-    out, _ = p.communicate(timeout=60)
+    try:
+        assert p.stdout.readline().strip() == "started"
+        time.sleep(3.0)
+        p.send_signal(signal.SIGINT)
+        out, _ = p.communicate(timeout=60)
+    finally:
+        # A run that ignored the signal must not outlive the test.
+        p.kill()
     interrupted, frames, poses = out.split()
     assert p.returncode == 0
     assert interrupted == "True" and int(frames) == int(poses) > 0
