@@ -8,9 +8,8 @@ walls), and that matters for odometry: a keypoint cloud's geometry is where its 
 
 The first folder holds the real 8-bit images (PNG; the first 100 are used), the others keylo
 frame folders (`keylo sim ... --out DIR`) whose signal is made 8-bit as Ouster's ROS driver
-makes it (driver_image.py), or PNG folders. The detectors are the keypoint study's (FAST
-threshold 30, Shi-Tomasi and Harris with quality 0.01, minimum distance 4, block size 4;
-OpenCV's defaults otherwise). Prints a markdown table and, per detector, the share of keypoints
+makes it (driver_image.py), or PNG folders. The detectors are the keypoint study's, as
+scripts/peers/kpeval_reference.py makes them. Prints a markdown table and, per detector, the share of keypoints
 that would have to move between eighths for the simulated profile to become the real one.
 Needs numpy and OpenCV-Python.
 """
@@ -22,24 +21,16 @@ import sys
 import cv2
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "peers"))
+from kpeval_reference import H, W, detector  # noqa: E402
 from row_residual import klf_signal  # noqa: E402
 
 REAL_IMAGES = 100
 BANDS = 8
-SIZE = (1024, 64)
-
-
-def detectors():
-    return {
-        "AKAZE": cv2.AKAZE_create(),
-        "ORB": cv2.ORB_create(),
-        "FAST": cv2.FastFeatureDetector_create(30),
-        "SHITOMASI": cv2.GFTTDetector_create(16384, 0.01, 4, 4),
-        "HARRIS": cv2.GFTTDetector_create(16384, 0.01, 4, 4, True, 0.04),
-        "SIFT": cv2.SIFT_create(),
-        "BRISK": cv2.BRISK_create(),
-    }
+SIZE = (W, H)
+DETECTORS = ["AKAZE", "ORB", "FAST", "SHITOMASI", "HARRIS", "SIFT", "BRISK"]
 
 
 def load(folder, limit=None):
@@ -72,7 +63,8 @@ def main():
     print(f"real: {len(real)} images; simulated: {len(sim)} images\n")
     print("| detector | images | median count | keypoints per eighth of the rows, top first | to move |")
     print("|---|---|---|---|---|")
-    for name, det in detectors().items():
+    for name in DETECTORS:
+        det = detector(name)
         r, rc = profile(real, det)
         s, sc = profile(sim, det)
         # Half the L1 distance of the two normalised profiles.
