@@ -27,9 +27,8 @@ pub(crate) struct Renderer {
     beam_responses: Vec<BeamResponse>,
     /// Rays are cast this far (a bit past the max range, for the near-IR of far surfaces).
     cast_range: f32,
-    /// Per row, how many columns earlier its pixel fired (empty: none; see
-    /// [`SensorModel::column_lags`]).
-    lags: Vec<usize>,
+    /// Per column, `(sin, cos)` of its azimuth.
+    column_trig: Vec<(f64, f64)>,
     /// Per row, the beam's azimuth offset, radians (empty: none).
     beam_azimuths: Vec<f64>,
     /// Distance from the lidar origin to the beam origins, metres.
@@ -43,7 +42,9 @@ impl Renderer {
         let beam_responses = look.beam_responses(sensor.rows);
         let beams = sensor.beam_geometry();
         let cast_range = (sensor.max_range_m * 1.2 + 1.0) as f32;
-        let lags = sensor.column_lags();
+        let column_trig = (0..sensor.cols)
+            .map(|c| sensor.azimuth_rad(c).sin_cos())
+            .collect();
         let (beam_azimuths, beam_origin_m) = match &sensor.stagger {
             Some(st) => (
                 st.azimuth_deg.iter().map(|a| a.to_radians()).collect(),
@@ -52,7 +53,7 @@ impl Renderer {
             None => (Vec::new(), 0.0),
         };
         Self {
-            lags,
+            column_trig,
             beam_azimuths,
             beam_origin_m,
             sensor,
@@ -126,21 +127,24 @@ impl Renderer {
         out: &mut [PixelReturn],
     ) {
         let cols = self.sensor.cols;
+        let lags = &self.beams.column_lag_by_row;
         let beams = self.altitudes.iter().zip(&self.beam_responses);
         for ((row, px), (&(ca, sa), beam)) in out.iter_mut().enumerate().zip(beams) {
-            let fired = match self.lags.get(row) {
+            let fired = match lags.get(row) {
                 Some(&lag) => (col + cols - lag) % cols,
                 None => col,
             };
             let place = &placements[fired];
-            let encoder = self.sensor.azimuth_rad(fired);
-            let az = encoder - self.beam_azimuths.get(row).copied().unwrap_or(0.0);
-            let (saz, caz) = az.sin_cos();
+            let (s_enc, c_enc) = self.column_trig[fired];
+            let (saz, caz) = match self.beam_azimuths.get(row) {
+                Some(&offset) => (self.sensor.azimuth_rad(fired) - offset).sin_cos(),
+                None => (s_enc, c_enc),
+            };
             let dir_s = Vector3::new(ca * caz, ca * saz, sa);
             let w = place.rot * dir_s.cast::<f32>();
             let dir_w = GVec::new(w.x, w.y, w.z).normalize();
             // The beam starts on the column's azimuth, `beam_origin_m` from the lidar origin.
-            let start_s = Vector3::new(encoder.cos(), encoder.sin(), 0.0) * self.beam_origin_m;
+            let start_s = Vector3::new(c_enc, s_enc, 0.0) * self.beam_origin_m;
             let origin = if self.beam_origin_m == 0.0 {
                 place.origin
             } else {
