@@ -90,7 +90,7 @@ const FLOOR_TILE_M: f32 = 0.6;
 const FLOOR_TILE_CONTRAST: f32 = 0.3;
 /// Share of the `ouster` floor's 0.1 m cells holding a bright fleck (see
 /// [`Pattern::Flooring`]).
-const FLOOR_FLECKS: f32 = 0.1;
+const FLOOR_FLECKS: f32 = 0.22;
 /// The `ouster` floor's albedo: dark. With the driver's square root the real floor reads
 /// grey 58–69 in the last two eighths of the rows; the still lab: 60 and 69.
 const FLOOR_ALBEDO: (f32, f32) = (0.042, 0.07);
