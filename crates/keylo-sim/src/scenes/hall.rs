@@ -3,7 +3,7 @@
 
 use rand::Rng;
 
-use super::lab::Room;
+use super::lab::{slab, Room};
 use super::SceneBuilder;
 use crate::texture::{Material, Pattern};
 use crate::world::Object;
@@ -12,7 +12,8 @@ use crate::world::Object;
 /// ducts and cable trays, doors, tall cabinets, small things on the floor along
 /// the walls — the small, high-contrast shapes that give real signal images most of their
 /// corners.
-pub(super) fn clutter(b: &mut SceneBuilder, r: Room, path: (f32, f32)) {
+/// `loop_axes`: the half axes of the sensor's loop.
+pub(super) fn clutter(b: &mut SceneBuilder, r: Room, loop_axes: (f32, f32)) {
     ceiling_lights(b, r);
     for _ in 0..DARK_ITEMS {
         let at = wall_band(b, r);
@@ -45,7 +46,7 @@ pub(super) fn clutter(b: &mut SceneBuilder, r: Room, path: (f32, f32)) {
         ));
     }
     for _ in 0..NEAR_ITEMS {
-        near_item(b, path);
+        near_item(b, loop_axes);
     }
     for _ in 0..POLES {
         let (cx, cy) = wall_band(b, r);
@@ -212,7 +213,7 @@ fn door(b: &mut SceneBuilder, r: Room, side: f32) {
 /// axes), moved off it along its normal by a distance in [`NEAR_BAND_M`], to either side.
 fn near_item(b: &mut SceneBuilder, (a, bb): (f32, f32)) {
     let t = b.rng.random_range(0.0..std::f32::consts::TAU);
-    let off = b.rng.random_range(NEAR_BAND_M) * if b.rng.random_bool(0.5) { 1.0 } else { -1.0 };
+    let off = b.rng.random_range(NEAR_BAND_M) * b.random_side() as f32;
     let (s, c) = t.sin_cos();
     let (nx, ny) = (bb * c, a * s);
     let norm = (nx * nx + ny * ny).sqrt().max(1e-6);
@@ -259,8 +260,7 @@ fn rack(b: &mut SceneBuilder, (cx, cy): (f32, f32)) {
     let yaw = b.rng.random_range(0.0..std::f32::consts::PI);
     let (s, c) = yaw.sin_cos();
     for side in [-1.0f32, 1.0] {
-        let base = [cx + side * half * c, cy + side * half * s];
-        b.prop(post([base[0], base[1]], h, m));
+        b.prop(post([cx + side * half * c, cy + side * half * s], h, m));
     }
     let step = b.rng.random_range(0.25..0.4f32);
     let mut z = step;
@@ -273,6 +273,6 @@ fn rack(b: &mut SceneBuilder, (cx, cy): (f32, f32)) {
 /// A 4 cm square post `h` high standing at `(x, y)` (a box, not a cylinder: parry casts rays
 /// at cylinders iteratively, and at grazing incidence on one this thin the hit can be mm off
 /// its surface).
-fn post([x, y]: [f32; 2], h: f32, m: Material) -> Object {
-    Object::aabb_box([x - 0.02, y - 0.02, 0.0], [x + 0.02, y + 0.02, h], m)
+fn post(at: [f32; 2], h: f32, m: Material) -> Object {
+    slab(at, [0.02; 2], (0.0, h), m)
 }

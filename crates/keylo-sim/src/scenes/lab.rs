@@ -29,7 +29,7 @@ const ROOM: Room = Room {
 /// rows with dim grazing ceiling, while the real images' upper rows are bright walls (mean
 /// grey of the second eighth of the rows: real 151; 122 at 3 m, 158 at 4.5 m). It is
 /// 16.5 m × 11 m: the real images' far walls meet the floor 10–12.5° below the horizon
-/// (rows 77–80 of 128), which with the sensor 1.1–1.2 m up (the height of their doors,
+/// (rows 77–80 of 128), which with the sensor 1.10–1.28 m up (the height of their doors,
 /// docs/results/sim-realism.md) puts them 5–7 m away; in the 14 m × 9 m room the loop's
 /// nearest walls are 2.5 m away and the corners along them crowd the rows 12–24° down.
 const HALL: Room = Room {
