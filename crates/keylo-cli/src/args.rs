@@ -47,6 +47,10 @@ pub enum Command {
     /// List and check run-time plugins (`kind = "plugin:NAME"`); see docs/plugins.md.
     #[command(subcommand)]
     Plugins(crate::cmd_plugins::PluginsCommand),
+    /// Run the pipeline as a ROS 2 node: PointCloud2 in; Odometry, TF and Path out
+    /// (pure Rust over DDS, no ROS install; docs/ros2.md).
+    #[cfg(feature = "ros2")]
+    Ros2(crate::cmd_ros2::Ros2Args),
 }
 
 #[derive(Debug, Args)]

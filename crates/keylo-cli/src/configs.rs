@@ -35,6 +35,25 @@ pub fn load(
     if let Some(meta) = meta {
         apply_meta(&mut raw, meta)?;
     }
+    finish(registry, raw, sets)
+}
+
+/// Reads `file` (or, when `None`, the built-in defaults, not the demo), applies `--set`,
+/// loads the plugins it names and resolves it (`keylo ros2`, whose input is a topic).
+#[cfg_attr(not(feature = "ros2"), allow(dead_code))]
+pub fn load_or_defaults(
+    registry: &mut Registry,
+    file: Option<&Path>,
+    sets: &[String],
+) -> Result<PipelineConfig> {
+    let raw = match file {
+        Some(path) => RawConfig::from_file(path)?,
+        None => RawConfig::builtin(),
+    };
+    finish(registry, raw, sets)
+}
+
+fn finish(registry: &mut Registry, mut raw: RawConfig, sets: &[String]) -> Result<PipelineConfig> {
     for s in sets {
         raw.set(s)?;
     }

@@ -9,6 +9,8 @@ mod cmd_eval;
 mod cmd_info;
 mod cmd_plugins;
 mod cmd_run;
+#[cfg(feature = "ros2")]
+mod cmd_ros2;
 mod cmd_sim;
 mod compare;
 mod configs;
@@ -71,6 +73,8 @@ fn main() -> ExitCode {
         Command::Compare(a) => compare::run(a, cli.threads, cli.quiet),
         Command::Report(a) => report_page::run(a, cli.quiet),
         Command::Keypoints(a) => keypoints::run(a, cli.threads, cli.quiet),
+        #[cfg(feature = "ros2")]
+        Command::Ros2(a) => cmd_ros2::run(a, cli.quiet),
     };
     match outcome {
         Ok(code) => code,

@@ -69,6 +69,9 @@ pub struct Summary {
     pub association_warning: Option<String>,
     /// The registrar's degeneracy analysis over the run (per frame in `degeneracy.csv`).
     pub degeneracy: Option<crate::degeneracy_out::DegeneracySummary>,
+    /// `keylo ros2`: clouds received, dropped, refused and registered by the node.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ros2: Option<serde_json::Value>,
 }
 
 /// Running sums over frames.

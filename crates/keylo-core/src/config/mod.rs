@@ -1,4 +1,4 @@
-//! The TOML config: seven sections, each stage choosing a backend with `kind = "..."`.
+//! The TOML config: nine sections, each stage choosing a backend with `kind = "..."`.
 //!
 //! A config is read as a [`RawConfig`] (text plus `--set` overrides), then resolved against a
 //! [`crate::Registry`] into a [`PipelineConfig`] in which every backend's parameters are
@@ -24,7 +24,7 @@ use std::path::PathBuf;
 
 /// The sections of a config file, in pipeline order (`[plugins]` first: it says where
 /// `kind = "plugin:NAME"` backends are found).
-pub const SECTIONS: [&str; 8] = [
+pub const SECTIONS: [&str; 9] = [
     "plugins",
     "source",
     "image",
@@ -33,6 +33,7 @@ pub const SECTIONS: [&str; 8] = [
     "downsampler",
     "registrar",
     "output",
+    "ros2",
 ];
 
 /// The stage sections and the backend each uses when the file does not say.
@@ -92,6 +93,9 @@ pub struct PipelineConfig {
     pub registrar: StageConfig,
     pub output: OutputConfig,
     pub plugins: PluginsConfig,
+    /// `[ros2]`: the settings of `keylo ros2` (crate `keylo-ros2` validates them; every other
+    /// command carries the table through unread, so one config serves a node and a replay).
+    pub ros2: toml::Table,
 }
 
 impl PipelineConfig {

@@ -34,6 +34,11 @@ pub fn render_resolved(config: &PipelineConfig, registry: &Registry) -> String {
     if let Ok(table) = toml::Table::try_from(&config.output) {
         write_table(&mut out, "output", &table, &schema, &schema);
     }
+    if !config.ros2.is_empty() {
+        // Validated and documented by `keylo ros2` (crate keylo-ros2), not by the registry.
+        out.push_str("\n[ros2]\n");
+        write_table(&mut out, "ros2", &config.ros2, &Value::Null, &Value::Null);
+    }
     out
 }
 

@@ -37,6 +37,10 @@ impl Registry {
             registrar: stage("registrar")?,
             output: resolve_output(raw)?,
             plugins: raw.plugins()?,
+            ros2: match raw.table.get("ros2") {
+                None => toml::Table::new(),
+                Some(value) => expect_table(&raw.origin, "ros2", value)?,
+            },
         })
     }
 

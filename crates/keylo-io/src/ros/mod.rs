@@ -11,6 +11,7 @@ mod bag;
 mod beams;
 mod config;
 mod file;
+mod framer;
 mod image;
 mod info;
 mod mcap_chunk;
@@ -30,6 +31,7 @@ use std::path::Path;
 
 pub use config::{BagSourceConfig, ImageTopics};
 pub use file::BagFormat;
+pub use framer::CloudFramer;
 pub use info::{bag_info, BagInfo, CloudLayout, FieldInfo, TopicInfo};
 pub use msgs::{decode_header, DecodeError, Header, Image, PointCloud2, PointField};
 pub use pointcloud2::to_raw_cloud;

@@ -2,13 +2,12 @@
 //! image topics filling channels.
 
 use std::path::Path;
-use std::sync::Arc;
-
 use keylo_core::{
-    BeamGeometry, BuildContext, Channel, CoreError, ImageSource, LidarFrame, SourceInfo,
+    BuildContext, Channel, CoreError, ImageSource, LidarFrame, SourceInfo,
 };
 
 use super::beams;
+use super::framer::CloudFramer;
 use super::config::BagSourceConfig;
 use super::file::{BagFormat, MessageFile, StoredMessage};
 use super::image::{pixels, restagger};
@@ -17,7 +16,7 @@ use super::pointcloud2::to_raw_cloud;
 use super::sync::{ImageQueue, Sync, SyncError};
 use super::topics::{cloud_topic, topics, typed_topic, Topic, IMAGE, STRING};
 use super::wire::Encoding;
-use crate::cloud::{organised, Projector, RawCloud, Sensor};
+use crate::cloud::{Projector, RawCloud, Sensor};
 use crate::ouster::OusterMetadata;
 use crate::select::FrameSelection;
 use crate::IoError;
@@ -35,13 +34,11 @@ pub struct BagSource {
     channels: Vec<Channel>,
     range_unit_m: f64,
     shift_config: Vec<i64>,
-    metadata: Option<OusterMetadata>,
     metadata_topic: String,
     selection: FrameSelection,
     frames: Option<usize>,
     next_index: usize,
-    projector: Projector,
-    beams: Option<Arc<BeamGeometry>>,
+    framer: CloudFramer,
     shift: Option<Vec<i64>>,
     done: bool,
 }
@@ -99,13 +96,11 @@ impl BagSource {
             channels,
             range_unit_m: config.images.range_unit_m,
             shift_config: config.images.pixel_shift_by_row.clone(),
-            metadata,
             metadata_topic: config.metadata_topic.clone(),
             selection,
             frames,
             next_index: 0,
-            projector,
-            beams: None,
+            framer: CloudFramer::new(projector, metadata, &cloud.name),
             shift: None,
             done: false,
         })
@@ -151,21 +146,15 @@ impl BagSource {
         let fail = |m: String| IoError::format(&path, format!("{at}: {m}"));
         let pc = PointCloud2::decode(&msg.data, self.encoding).map_err(|e| fail(e.to_string()))?;
         let cloud = to_raw_cloud(&pc).map_err(|e| fail(e.to_string()))?;
-        let Some((rows, cols)) = cloud.grid else {
-            if !self.channels.is_empty() {
-                return Err(fail(
-                    "[source.images] fill organised clouds only, and this cloud has height 1 \
-                     (it is projected); remove the image topics"
-                        .into(),
-                ));
-            }
-            return self
-                .projector
-                .project(&cloud, i as u64)
-                .map_err(|e| fail(e.to_string()));
-        };
-        let beams = self.beams_for(&cloud, rows, cols);
-        let mut frame = organised::to_frame(&cloud, rows, cols, i as u64, beams);
+        if cloud.grid.is_none() && !self.channels.is_empty() {
+            return Err(fail(
+                "[source.images] fill organised clouds only, and this cloud has height 1 \
+                 (it is projected); remove the image topics"
+                    .into(),
+            ));
+        }
+        let mut frame = self.framer.frame(&cloud, i as u64).map_err(&fail)?;
+        let (rows, cols) = (frame.rows, frame.cols);
         if !self.channels.is_empty() {
             let shift = self.shift_for(&cloud, rows, cols).map_err(fail)?;
             let images = match self.sync.images_at(self.file.as_mut(), pc.header.stamp_ns) {
@@ -176,23 +165,6 @@ impl BagSource {
             self.fill(&mut frame, &images, &shift).map_err(fail)?;
         }
         Ok(frame)
-    }
-
-    /// The beams of the sequence: decided on the first cloud, again if the grid size changes.
-    fn beams_for(&mut self, cloud: &RawCloud, rows: usize, cols: usize) -> Arc<BeamGeometry> {
-        if let Some(b) = &self.beams {
-            if b.altitude_deg.len() == rows && b.columns_per_frame == cols {
-                return Arc::clone(b);
-            }
-        }
-        let beams = Arc::new(match &self.metadata {
-            Some(m) if m.pixels_per_column == rows && m.columns_per_frame == cols => {
-                beams::from_metadata(m)
-            }
-            _ => beams::estimate(cloud, rows, cols, &self.topic),
-        });
-        self.beams = Some(Arc::clone(&beams));
-        beams
     }
 
     /// The column shift from the cloud to its images (see `ImageTopics::pixel_shift_by_row`).
@@ -216,7 +188,7 @@ impl BagSource {
         } else {
             match beams::is_staggered(cloud, rows, cols) {
                 Some(false) => vec![0],
-                Some(true) => match &self.metadata {
+                Some(true) => match self.framer.metadata() {
                     Some(m) if m.pixel_shift_by_row.len() == rows => m.pixel_shift_by_row.clone(),
                     _ => {
                         return Err(format!(
@@ -328,7 +300,7 @@ impl ImageSource for BagSource {
     }
 
     fn set_grid_needed(&mut self, needed: bool) {
-        self.projector.set_grid_needed(needed);
+        self.framer.set_grid_needed(needed);
     }
 
     /// What `keylo info` shows: the recording's time span and every topic with its type,

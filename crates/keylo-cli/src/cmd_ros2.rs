@@ -1,0 +1,124 @@
+//! `keylo ros2`: the pipeline of a config as a ROS 2 node (crate keylo-ros2), until Ctrl-C,
+//! SIGTERM or `--idle-timeout`; with `--out`, the files `keylo run` writes.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use clap::Args;
+use keylo::{Odometry, Trajectory};
+use keylo_ros2::{Ros2Config, Ros2Node};
+
+use crate::journal::Journal;
+use crate::report::{self, Summary, Totals};
+use crate::{configs, resources};
+
+#[derive(Debug, Args)]
+pub struct Ros2Args {
+    /// Pipeline config (TOML) with an optional [ros2] table (docs/ros2.md); none: raw
+    /// KISS-ICP with the node's defaults.
+    pub config: Option<PathBuf>,
+    /// Override a config value, e.g. --set ros2.points_topic=/ouster/points (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// Also write what `keylo run` writes (trajectory, frames.csv, summary.json) here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// End when no cloud came for this many seconds (0: run until Ctrl-C or SIGTERM).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+    pub idle_timeout: f64,
+}
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
+    let mut registry = keylo::registry();
+    // No config: the built-in defaults (raw cloud, KISS-ICP), not the simulated demo.
+    let config = configs::load_or_defaults(&mut registry, args.config.as_deref(), &args.sets)?;
+    let ros2 = Ros2Config::from_table(&config.ros2, &config.origin)?;
+    let mut odometry = Odometry::build(&config, &registry)?;
+    let mut journal = match &args.out {
+        Some(dir) => {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("creating output directory {}", dir.display()))?;
+            std::fs::write(
+                dir.join("config.toml"),
+                keylo::config::render_resolved(&config, &registry),
+            )
+            .with_context(|| format!("writing {}", dir.join("config.toml").display()))?;
+            Some(Journal::create(dir, &config.output)?)
+        }
+        None => None,
+    };
+    let mut node = Ros2Node::start(ros2, &odometry)?;
+    if let Err(e) = ctrlc::set_handler(|| STOP.store(true, Ordering::SeqCst)) {
+        tracing::warn!("Ctrl-C will not end the node cleanly: {e}");
+    }
+    let idle = (args.idle_timeout > 0.0).then(|| Duration::from_secs_f64(args.idle_timeout));
+    let cpu0 = resources::cpu_seconds();
+    let start = Instant::now();
+    let mut totals = Totals::default();
+    let mut trajectory = Trajectory::default();
+    let mut write_error: Option<anyhow::Error> = None;
+    let stats = node.run(&mut odometry, &STOP, idle, |p| {
+        totals.add(p.result);
+        totals.odometry_seconds += p.seconds;
+        trajectory.push(p.result.stamp, p.result.pose);
+        if let (Some(j), None) = (journal.as_mut(), &write_error) {
+            let row = report::FrameRow {
+                frame: p.result.index,
+                stamp: p.result.stamp,
+                keypoints: p.result.keypoints,
+                cloud_points: p.result.cloud_points,
+                registered_points: p.result.registered_points,
+                map_points: p.result.map_points,
+                odometry_ms: 1e3 * p.seconds,
+                rss_mb: resources::rss_mb(),
+            };
+            if let Err(e) = j.record(p.result.stamp, &p.result.pose, &row) {
+                tracing::error!("writing the run's files failed: {e:#}; the node goes on");
+                write_error = Some(e);
+            }
+        }
+    });
+    let wall = start.elapsed().as_secs_f64();
+    if !quiet {
+        eprintln!(
+            "keylo ros2: {} clouds received, {} registered, {} dropped (registration behind), \
+             {} refused, {} undecodable",
+            stats.clouds_received,
+            stats.frames,
+            stats.clouds_dropped,
+            stats.clouds_refused,
+            stats.messages_undecodable
+        );
+    }
+    if let Some(dir) = &args.out {
+        let mut summary = Summary {
+            keylo_version: env!("CARGO_PKG_VERSION"),
+            config: config.origin.clone(),
+            source: "ROS 2 topic (keylo ros2)".into(),
+            wall_hz: if wall > 0.0 {
+                totals.frames as f64 / wall
+            } else {
+                0.0
+            },
+            peak_rss_mb: resources::peak_rss_mb(),
+            cpu_percent: cpu0
+                .zip(resources::cpu_seconds())
+                .map(|(a, b)| 100.0 * (b - a) / wall.max(1e-9)),
+            path_length_m: trajectory.path_length(),
+            ros2: serde_json::to_value(&stats).ok(),
+            ..Summary::default()
+        };
+        totals.fill(&mut summary);
+        report::write_summary(dir, &summary)?;
+    }
+    drop(journal);
+    if let Some(e) = write_error {
+        return Err(e.context("the node ran, but its files are incomplete"));
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,382 @@
+//! The node's loop: take the newest waiting cloud, make it a frame as `keylo run` does for a
+//! bag's clouds, register it, publish odometry, TF, path and the debug topics. A bad cloud is
+//! a log line naming the topic, stamp and what is wrong, and the loop goes on.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use keylo_core::{CoreError, FrameFeatures, FrameResult, LidarFrame, Odometry};
+use keylo_io::cloud::{Projector, ProjectionConfig, Sensor};
+use keylo_io::ros::CloudFramer;
+use nalgebra::Isometry3;
+
+use crate::dds::{resolve, Command, Dds};
+use crate::frames::{self, BaseFrame};
+use crate::msgs::{self, Time};
+use crate::outputs::{self, OdometryParts, PathKeeper};
+use crate::prior::PriorTrack;
+use crate::{Ros2Config, Ros2Error};
+
+/// What the node did, for the summary and the log.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+pub struct NodeStats {
+    /// Clouds received on the points topic.
+    pub clouds_received: u64,
+    /// Clouds dropped because registration was behind (the oldest waiting one each time).
+    pub clouds_dropped: u64,
+    /// Clouds refused (bad layout, no finite point, time going backwards, another frame_id,
+    /// a stage's error), each logged.
+    pub clouds_refused: u64,
+    /// Input messages that did not decode as their type.
+    pub messages_undecodable: u64,
+    /// Frames registered and published.
+    pub frames: u64,
+    /// Frames whose covariance was the fixed fallback (no estimate from the registrar).
+    pub fallback_covariances: u64,
+}
+
+/// One registered frame, as the node published it.
+pub struct Published<'a> {
+    pub result: &'a FrameResult,
+    /// The odometry message's stamp (the scan's end, on the cloud's clock), nanoseconds.
+    pub stamp_ns: i64,
+    /// Time spent in keylo's stages on this frame, seconds.
+    pub seconds: f64,
+}
+
+/// The ROS 2 node: DDS in and out around an [`Odometry`].
+pub struct Ros2Node {
+    config: Ros2Config,
+    dds: Dds,
+    framer: CloudFramer,
+    base: BaseFrame,
+    points_topic: String,
+    path: PathKeeper,
+    prior: PriorTrack,
+    /// The frame of the first cloud; later clouds must keep it.
+    cloud_frame: Option<String>,
+    /// The previous frame's base pose and end stamp (s).
+    previous: Option<(Isometry3<f64>, f64)>,
+    next_index: u64,
+    stats: NodeStats,
+    want_features: bool,
+    pending_prior: bool,
+}
+
+impl Ros2Node {
+    /// Joins DDS and makes the topics of `config` for `odometry`'s pipeline.
+    pub fn start(config: Ros2Config, odometry: &Odometry) -> Result<Self, Ros2Error> {
+        let base = BaseFrame::new(
+            frames::extrinsic(&config.base_to_lidar).map_err(|message| Ros2Error::Config {
+                origin: "config".into(),
+                message,
+            })?,
+        );
+        let projector = Projector::from_config(&ProjectionConfig::default(), Sensor::Generic)
+            .map_err(|e| Ros2Error::Config {
+                origin: "projection".into(),
+                message: e.to_string(),
+            })?;
+        let mut framer = CloudFramer::new(projector, None, &config.points_topic);
+        framer.set_grid_needed(odometry.needs_grid());
+        let dds = Dds::start(&config)?;
+        let points_topic = resolve(&config.namespace, &config.points_topic);
+        tracing::info!(
+            "ros2: listening on {points_topic} ({:?}), odometry on {}",
+            config.input_reliability,
+            resolve(&config.namespace, &config.odometry_topic)
+        );
+        Ok(Self {
+            want_features: !config.keypoint_cloud_topic.is_empty()
+                || !config.keypoint_image_topic.is_empty(),
+            path: PathKeeper::new(config.path_max_poses),
+            config,
+            dds,
+            framer,
+            base,
+            points_topic,
+            prior: PriorTrack::default(),
+            cloud_frame: None,
+            previous: None,
+            next_index: 0,
+            stats: NodeStats::default(),
+            pending_prior: false,
+        })
+    }
+
+    /// Runs until `stop` is set (Ctrl-C, SIGTERM) or `idle` passes without a cloud (when
+    /// given), calling `on_frame` after each frame is published.
+    pub fn run(
+        &mut self,
+        odometry: &mut Odometry,
+        stop: &AtomicBool,
+        idle: Option<Duration>,
+        mut on_frame: impl FnMut(&Published),
+    ) -> NodeStats {
+        let mut last_input = Instant::now();
+        while !stop.load(Ordering::SeqCst) {
+            while let Ok(c) = self.dds.commands.try_recv() {
+                self.command(odometry, c);
+            }
+            let Some(msg) = self.dds.inbox.pop(Duration::from_millis(50)) else {
+                if idle.is_some_and(|d| last_input.elapsed() >= d) {
+                    break;
+                }
+                continue;
+            };
+            last_input = Instant::now();
+            self.cloud(odometry, &msg, &mut on_frame);
+        }
+        self.stats()
+    }
+
+    /// The counts so far.
+    pub fn stats(&self) -> NodeStats {
+        let (received, dropped) = self.dds.inbox.counts();
+        NodeStats {
+            clouds_received: received,
+            clouds_dropped: dropped,
+            messages_undecodable: self.dds.undecodable.load(Ordering::Relaxed),
+            ..self.stats.clone()
+        }
+    }
+
+    fn command(&mut self, odometry: &mut Odometry, c: Command) {
+        match c {
+            Command::Reset => match odometry.reset() {
+                Ok(()) => {
+                    self.previous = None;
+                    self.cloud_frame = None;
+                    self.path.clear();
+                    self.prior.clear();
+                    tracing::info!("ros2: reset: map and motion forgotten");
+                }
+                Err(e) => tracing::warn!("ros2: reset refused: {e}"),
+            },
+            Command::SetPose(m) => {
+                let Some(base) = frames::pose_from_msg(&m.pose.pose) else {
+                    tracing::warn!(
+                        "{}: pose is not finite or its quaternion is not unit length; ignored",
+                        self.config.set_pose_topic
+                    );
+                    return;
+                };
+                if !m.header.frame_id.is_empty() && m.header.frame_id != self.config.lidar_odom_frame
+                {
+                    tracing::warn!(
+                        "{}: the pose is in `{}`, expected `{}`; ignored",
+                        self.config.set_pose_topic,
+                        m.header.frame_id,
+                        self.config.lidar_odom_frame
+                    );
+                    return;
+                }
+                match odometry.set_pose(&self.base.lidar_pose(&base)) {
+                    Ok(()) => {
+                        // The next twist would otherwise jump by the set-pose step.
+                        self.previous = self.previous.map(|(_, t)| (base, t));
+                        tracing::info!("ros2: pose set");
+                    }
+                    Err(e) => tracing::warn!("ros2: set_pose refused: {e}"),
+                }
+            }
+            Command::MotionPrior(m) => {
+                if let Err(e) = self.prior.push(&m) {
+                    tracing::warn!("{}: {e}; ignored", self.config.motion_prior_topic);
+                } else {
+                    self.pending_prior = true;
+                }
+            }
+        }
+    }
+
+    fn refuse(&mut self, msg: &msgs::PointCloud2, what: &str) {
+        self.stats.clouds_refused += 1;
+        tracing::warn!(
+            "{} cloud stamped {}.{:09} (frame `{}`): {what}; skipped",
+            self.points_topic,
+            msg.header.stamp.sec,
+            msg.header.stamp.nanosec,
+            msg.header.frame_id
+        );
+    }
+
+    fn cloud(
+        &mut self,
+        odometry: &mut Odometry,
+        msg: &msgs::PointCloud2,
+        on_frame: &mut impl FnMut(&Published),
+    ) {
+        if let Some(f) = &self.cloud_frame {
+            if *f != msg.header.frame_id {
+                let what = format!(
+                    "frame_id changed from `{f}` (the node's first cloud; publish reset to start \
+                     over in another frame)"
+                );
+                return self.refuse(msg, &what);
+            }
+        }
+        let cloud = match CloudFramer::cloud(&msg.view()) {
+            Ok(c) => c,
+            Err(e) => return self.refuse(msg, &e.to_string()),
+        };
+        let finite = cloud
+            .points
+            .iter()
+            .filter(|p| p.iter().all(|v| v.is_finite()))
+            .count();
+        if finite == 0 {
+            let what = format!("none of its {} points is finite", cloud.points.len());
+            return self.refuse(msg, &what);
+        }
+        let frame = match self.framer.frame(&cloud, self.next_index) {
+            Ok(f) => f,
+            Err(e) => return self.refuse(msg, &e),
+        };
+        self.apply_prior(odometry, &frame);
+        let t = Instant::now();
+        let processed = process_guarded(odometry, &frame, self.want_features);
+        let seconds = t.elapsed().as_secs_f64();
+        let (result, features) = match processed {
+            Ok(r) => r,
+            Err(e) => return self.refuse(msg, &e.to_string()),
+        };
+        self.cloud_frame = Some(msg.header.frame_id.clone());
+        self.next_index += 1;
+        // The end of the scan on the cloud's own clock: its stamp plus the latest point time.
+        let stamp_ns = msg.header.stamp.to_ns()
+            + ((result.stamp - frame.timestamp) * 1e9).round() as i64;
+        self.publish(odometry, &result, &frame, features.as_ref(), msg, stamp_ns);
+        self.stats.frames += 1;
+        on_frame(&Published {
+            result: &result,
+            stamp_ns,
+            seconds,
+        });
+    }
+
+    /// Gives the registrar the other odometry's motion between the last scan and this one.
+    fn apply_prior(&mut self, odometry: &mut Odometry, frame: &LidarFrame) {
+        if !self.pending_prior {
+            return;
+        }
+        let Some((_, t0)) = self.previous else {
+            return;
+        };
+        let Some(base_motion) = self.prior.motion(t0, frame.end_stamp()) else {
+            tracing::debug!("ros2: no motion prior covers this scan; the motion model is used");
+            return;
+        };
+        // The other odometry tracks the base; keylo's motion is the LiDAR's.
+        let a = self.base.extrinsic();
+        let lidar_motion = a.inverse() * base_motion * a;
+        if let Err(e) = odometry.set_motion_prior(&lidar_motion) {
+            tracing::warn!("ros2: motion prior refused: {e}");
+            self.pending_prior = false;
+        }
+    }
+
+    fn publish(
+        &mut self,
+        odometry: &Odometry,
+        r: &FrameResult,
+        frame: &LidarFrame,
+        features: Option<&FrameFeatures>,
+        msg: &msgs::PointCloud2,
+        stamp_ns: i64,
+    ) {
+        let stamp = Time::from_ns(stamp_ns);
+        let cloud_frame = msg.header.frame_id.as_str();
+        let base_frame = if self.config.base_frame.is_empty() {
+            cloud_frame
+        } else {
+            self.config.base_frame.as_str()
+        };
+        let (odom, estimated) = outputs::odometry(
+            r,
+            &OdometryParts {
+                odom_frame: &self.config.lidar_odom_frame,
+                base_frame,
+                stamp,
+                previous: self.previous,
+                base: &self.base,
+                sigma: self.config.residual_sigma_m,
+                fallback: (
+                    self.config.position_covariance,
+                    self.config.orientation_covariance,
+                ),
+            },
+        );
+        if !estimated {
+            self.stats.fallback_covariances += 1;
+        }
+        let base_pose = self.base.base_pose(&r.pose);
+        self.previous = Some((base_pose, r.stamp));
+        let w = &self.dds.writers;
+        let topic = &self.config.odometry_topic;
+        if let Some(tf) = &w.tf {
+            report(tf.publish(outputs::tf(&odom, &base_pose, self.config.invert_odom_tf)), "/tf");
+        }
+        if let Some(p) = &w.path {
+            report(p.publish(self.path.push(&odom)), &self.config.path_topic);
+        }
+        if let Some(p) = &w.registered_cloud {
+            if let Some(c) = odometry.last_cloud() {
+                let m = outputs::cloud(c.points.iter().copied(), stamp, cloud_frame);
+                report(p.publish(m), &self.config.registered_cloud_topic);
+            }
+        }
+        if let (Some(p), Some(f)) = (&w.keypoint_cloud, features) {
+            let pts = outputs::keypoint_points(frame, f);
+            let m = outputs::cloud(pts.into_iter(), stamp, cloud_frame);
+            report(p.publish(m), &self.config.keypoint_cloud_topic);
+        }
+        if let Some(p) = &w.local_map {
+            // The map is in the first scan's LiDAR frame; the odometry frame is the base's.
+            let to_odom = self.base.extrinsic();
+            let pts = odometry.local_map().into_iter().map(|q| to_odom * q);
+            let m = outputs::cloud(pts, stamp, &self.config.lidar_odom_frame);
+            report(p.publish(m), &self.config.local_map_topic);
+        }
+        if let (Some(p), Some(f)) = (&w.keypoint_image, features) {
+            if let Some(m) = outputs::keypoint_image(f, stamp, cloud_frame) {
+                report(p.publish(m), &self.config.keypoint_image_topic);
+            }
+        }
+        report(w.odometry.publish(odom), topic);
+    }
+}
+
+fn report<E: std::fmt::Debug>(r: Result<(), E>, topic: &str) {
+    if let Err(e) = r {
+        tracing::warn!("{topic}: publishing failed: {e:?}");
+    }
+}
+
+/// One frame through the stages; a panic in a stage (a bug, in keylo or a plugin) becomes
+/// this cloud's error, and the node goes on.
+fn process_guarded(
+    odometry: &mut Odometry,
+    frame: &LidarFrame,
+    features: bool,
+) -> Result<(FrameResult, Option<FrameFeatures>), CoreError> {
+    let run = std::panic::AssertUnwindSafe(|| {
+        if features {
+            let (r, f) = odometry.process_with_features(frame)?;
+            Ok((r, Some(f)))
+        } else {
+            odometry.process(frame).map(|r| (r, None))
+        }
+    });
+    std::panic::catch_unwind(run).unwrap_or_else(|payload| {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into());
+        Err(CoreError::Stage {
+            stage: "pipeline".into(),
+            message: format!("internal error (a stage panicked: {what}); please report it"),
+        })
+    })
+}
