@@ -13,3 +13,7 @@ cargo test --workspace --locked
 
 # The Python package and its pytest suite (docs/python.md).
 bash "$ROOT/scripts/python-test.sh"
+
+# The ROS 2 node against an independent DDS implementation (Cyclone DDS), inside a private
+# network namespace (docs/ros2.md).
+bash "$ROOT/scripts/ros2/interop-test.sh"

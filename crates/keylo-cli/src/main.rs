@@ -109,8 +109,12 @@ fn init_logging(verbose: u8, quiet: bool) {
         (false, 2) => "debug",
         _ => "trace",
     };
-    let filter = tracing_subscriber::EnvFilter::try_from_env("KEYLO_LOG")
-        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(level));
+    // RustDDS and ros2-client (`keylo ros2`) log protocol details at info and the ROS
+    // distribution they were built for at warn: their warnings and errors only, unless
+    // KEYLO_LOG asks for them.
+    let filter = tracing_subscriber::EnvFilter::try_from_env("KEYLO_LOG").unwrap_or_else(|_| {
+        tracing_subscriber::EnvFilter::new(format!("{level},rustdds=warn,ros2_client=error"))
+    });
     tracing_subscriber::fmt()
         .with_env_filter(filter)
         .with_writer(std::io::stderr)

@@ -41,10 +41,11 @@ pub struct Writers {
 }
 
 /// A running DDS participant with the node's topics.
+///
+/// Fields drop in order: the writers, then (after `Drop` joined the reader thread, which owns
+/// the readers) the node, then the participant, so RustDDS removes every endpoint before its
+/// event loop stops.
 pub struct Dds {
-    // Kept alive for the writers' and readers' sake.
-    _context: Context,
-    _node: Node,
     pub writers: Writers,
     pub inbox: Arc<Inbox<msgs::PointCloud2>>,
     pub commands: mpsc::Receiver<Command>,
@@ -52,6 +53,8 @@ pub struct Dds {
     pub undecodable: Arc<AtomicU64>,
     stop: Arc<AtomicBool>,
     reader: Option<JoinHandle<()>>,
+    _node: Node,
+    _context: Context,
 }
 
 /// Reliable, keep last `depth` (tf2 listens to `/tf` with depth 100).
@@ -155,14 +158,14 @@ impl Dds {
                 .map_err(|e| dds("starting the reader thread", &e))?
         };
         Ok(Self {
-            _context: context,
-            _node: node,
             writers,
             inbox,
             commands,
             undecodable,
             stop,
             reader: Some(reader),
+            _node: node,
+            _context: context,
         })
     }
 }

@@ -1,0 +1,374 @@
+"""keylo's ROS 2 node against an independent DDS implementation (Eclipse Cyclone DDS, PyPI
+`cyclonedds`), run inside a private network namespace (scripts/ros2/netns.sh).
+
+For each stream of real or simulated scans this peer, in its own process:
+  1. writes the scans as a ROS 2 bag (MCAP, CDR by `rosbags`) and runs `keylo run` on it: the
+     reference trajectory;
+  2. starts `keylo ros2` and acts as the LiDAR driver (publishes `rt/points`, type
+     `sensor_msgs::msg::dds_::PointCloud2_`) and as the consumer (`rt/keylo/odometry`,
+     `rt/tf`, `rt/keylo/path`);
+  3. checks that every scan is answered, with the pose of `keylo run` (<= 1e-6 m, 1e-6 rad),
+     the scan's own end stamp, the frames, a symmetric positive covariance, and the TF and
+     path consistent with it;
+  4. midway sends bad clouds (no x field, point_step 0, point_step smaller than the fields,
+     data too short, every point NaN, time going backwards, another frame_id): none is
+     answered, each is logged naming the topic and the fault, and the next good scan is;
+  5. stops the node with SIGINT: exit 0, its trajectory and summary complete.
+
+  python interop.py --keylo target/debug/keylo --work DIR [--kitti DIR] [--sim-frames N]
+"""
+
+import argparse
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+sys.path.insert(0, str(HERE))
+# Cyclone DDS on loopback only (the namespace has nothing else), multicast on.
+os.environ["CYCLONEDDS_URI"] = (
+    '<CycloneDDS><Domain><General><Interfaces><NetworkInterface name="lo" multicast="true"/>'
+    "</Interfaces></General></Domain></CycloneDDS>")
+
+from cyclonedds.core import Policy, Qos  # noqa: E402
+from cyclonedds.domain import DomainParticipant  # noqa: E402
+from cyclonedds.pub import DataWriter  # noqa: E402
+from cyclonedds.sub import DataReader  # noqa: E402
+from cyclonedds.topic import Topic  # noqa: E402
+from cyclonedds.util import duration  # noqa: E402
+from mcap.reader import make_reader  # noqa: E402
+from mcap.writer import Writer as McapWriter  # noqa: E402
+from rosbags.typesys import Stores, get_typestore  # noqa: E402
+
+import ros2_idl as m  # noqa: E402
+
+STORE = get_typestore(Stores.ROS2_HUMBLE)
+FLOAT32, FLOAT64 = 7, 8
+SIZES = {1: 1, 2: 1, 3: 2, 4: 2, 5: 4, 6: 4, 7: 4, 8: 8}
+DTYPES = {1: "i1", 2: "u1", 3: "i2", 4: "u2", 5: "i4", 6: "u4", 7: "f4", 8: "f8"}
+FAILURES = []
+
+
+def check(ok, what):
+    if not ok:
+        FAILURES.append(what)
+        print(f"FAIL: {what}", flush=True)
+    return ok
+
+
+# ---------------------------------------------------------------- scans as plain dicts
+
+def cloud(stamp_ns, frame_id, height, width, fields, point_step, data, is_dense=True,
+          row_step=None, is_bigendian=False):
+    return dict(stamp_ns=stamp_ns, frame_id=frame_id, height=height, width=width,
+                fields=fields, point_step=point_step,
+                row_step=point_step * width if row_step is None else row_step,
+                data=bytes(data), is_dense=is_dense, is_bigendian=is_bigendian)
+
+
+def kitti_bins(folder, limit, t0_ns, dt_ns=100_000_000):
+    folder = Path(folder)
+    if (folder / "velodyne").is_dir():
+        folder = folder / "velodyne"
+    files = sorted(folder.glob("*.bin"))[:limit]
+    out = []
+    for k, f in enumerate(files):
+        pts = np.fromfile(f, dtype=np.float32).reshape(-1, 4)
+        fields = [("x", 0, FLOAT32, 1), ("y", 4, FLOAT32, 1), ("z", 8, FLOAT32, 1),
+                  ("intensity", 12, FLOAT32, 1)]
+        out.append(cloud(t0_ns + k * dt_ns, "velodyne", 1, len(pts), fields, 16, pts.tobytes()))
+    return out
+
+
+def bag_clouds(mcap_path, topic):
+    out = []
+    with open(mcap_path, "rb") as fh:
+        for _schema, channel, message in make_reader(fh).iter_messages(topics=[topic]):
+            c = STORE.deserialize_cdr(message.data, "sensor_msgs/msg/PointCloud2")
+            stamp = c.header.stamp.sec * 1_000_000_000 + c.header.stamp.nanosec
+            out.append(cloud(stamp, c.header.frame_id, c.height, c.width,
+                             [(f.name, f.offset, f.datatype, f.count) for f in c.fields],
+                             c.point_step, c.data.tobytes(), c.is_dense, c.row_step,
+                             c.is_bigendian))
+    return out
+
+
+def end_stamp_ns(c):
+    """The scan's end on its own clock: the stamp plus the latest time of a valid point
+    (finite, not at the origin); the stamp itself without a time field."""
+    names = {f[0].lower(): f for f in c["fields"]}
+    tf = next((names[n] for n in ("t", "time", "timestamp") if n in names), None)
+    if tf is None:
+        return c["stamp_ns"], 0
+    rec = records(c)
+    xyz = np.stack([rec["x"], rec["y"], rec["z"]], axis=1).astype(np.float64)
+    valid = np.isfinite(xyz).all(axis=1) & (np.abs(xyz).sum(axis=1) > 0)
+    t = rec[tf[0]].astype(np.float64)[valid]
+    t = t * (1e-9 if tf[2] not in (FLOAT32, FLOAT64) else 1.0)
+    return c["stamp_ns"] + int(round(t.max() * 1e9)), 1000
+
+
+def records(c):
+    order = ">" if c["is_bigendian"] else "<"
+    dt = np.dtype({"names": [f[0] for f in c["fields"]],
+                   "formats": [order + DTYPES[f[2]] for f in c["fields"]],
+                   "offsets": [f[1] for f in c["fields"]], "itemsize": c["point_step"]})
+    rows = np.frombuffer(c["data"], dtype=np.uint8).reshape(c["height"], c["row_step"])
+    rows = rows[:, :c["width"] * c["point_step"]].copy()
+    return rows.reshape(-1).view(dt)
+
+
+# ---------------------------------------------------------------- the two encoders
+
+def to_dds(c):
+    return m.PointCloud2(
+        header=m.Header(stamp=m.Time(sec=c["stamp_ns"] // 10**9, nanosec=c["stamp_ns"] % 10**9),
+                        frame_id=c["frame_id"]),
+        height=c["height"], width=c["width"],
+        fields=[m.PointField(name=n, offset=o, datatype=d, count=k) for n, o, d, k in c["fields"]],
+        is_bigendian=c["is_bigendian"], point_step=c["point_step"], row_step=c["row_step"],
+        data=c["data"], is_dense=c["is_dense"])
+
+
+def write_reference_bag(path, clouds, topic="/points"):
+    """The same clouds as a ROS 2 MCAP bag (CDR by rosbags), for `keylo run`."""
+    T = STORE.types
+    Header, Time, PF, PC2 = (T["std_msgs/msg/Header"], T["builtin_interfaces/msg/Time"],
+                             T["sensor_msgs/msg/PointField"], T["sensor_msgs/msg/PointCloud2"])
+    msgtype = "sensor_msgs/msg/PointCloud2"
+    with open(path, "wb") as fh:
+        w = McapWriter(fh)
+        w.start(profile="ros2", library="keylo scripts/ros2/interop.py")
+        msgdef, _ = STORE.generate_msgdef(msgtype, ros_version=2)
+        schema = w.register_schema(msgtype, "ros2msg", msgdef.encode())
+        channel = w.register_channel(topic, "cdr", schema)
+        for c in clouds:
+            s = c["stamp_ns"]
+            msg = PC2(header=Header(stamp=Time(sec=s // 10**9, nanosec=s % 10**9),
+                                    frame_id=c["frame_id"]),
+                      height=c["height"], width=c["width"],
+                      fields=[PF(name=n, offset=o, datatype=d, count=k)
+                              for n, o, d, k in c["fields"]],
+                      is_bigendian=c["is_bigendian"], point_step=c["point_step"],
+                      row_step=c["row_step"], data=np.frombuffer(c["data"], dtype=np.uint8),
+                      is_dense=c["is_dense"])
+            w.add_message(channel, log_time=s, publish_time=s,
+                          data=bytes(STORE.serialize_cdr(msg, msgtype)))
+        w.finish()
+
+
+def read_tum(path):
+    rows = [list(map(float, line.split())) for line in Path(path).read_text().splitlines()
+            if line.strip() and not line.startswith("#")]
+    return np.array(rows).reshape(-1, 8)
+
+
+def quat_angle(q1, q2):
+    d = abs(float(np.dot(q1, q2)))
+    return 2.0 * math.acos(min(1.0, d))
+
+
+# ---------------------------------------------------------------- bad clouds
+
+def bad_clouds(good, t_back_ns):
+    """Each fault once, from a good cloud (stamps after it unless the fault is the stamp)."""
+    after = good["stamp_ns"] + 1_000
+    out = []
+    fields = [(("q" if f[0] == "x" else f[0]),) + tuple(f[1:]) for f in good["fields"]]
+    out.append(("no `x` field", dict(good, stamp_ns=after, fields=fields)))
+    out.append(("point_step is 0", dict(good, stamp_ns=after + 1, point_step=0)))
+    out.append(("lies outside point_step", dict(good, stamp_ns=after + 2, point_step=4,
+                                                row_step=4 * good["width"],
+                                                data=good["data"][:4 * good["width"] * good["height"]])))
+    out.append(("data holds", dict(good, stamp_ns=after + 3, data=good["data"][: len(good["data"]) // 2])))
+    rec = records(good).copy()
+    for axis in "xyz":
+        rec[axis] = np.nan
+    nan = dict(good, stamp_ns=after + 4, data=rec.tobytes(), row_step=good["point_step"] * good["width"])
+    out.append(("is finite", nan))
+    out.append(("not after the previous frame", dict(good, stamp_ns=t_back_ns)))
+    out.append(("frame_id changed", dict(good, stamp_ns=after + 5, frame_id="another_frame")))
+    return out
+
+
+# ---------------------------------------------------------------- one stream
+
+class Peer:
+    def __init__(self, domain):
+        self.dp = DomainParticipant(domain)
+        rel = Qos(Policy.Reliability.Reliable(duration(seconds=1)),
+                  Policy.History.KeepLast(100), Policy.Durability.Volatile)
+        self.points = DataWriter(self.dp, Topic(self.dp, "rt/points", m.PointCloud2), qos=rel)
+        self.odom = DataReader(self.dp, Topic(self.dp, "rt/keylo/odometry", m.Odometry), qos=rel)
+        self.tf = DataReader(self.dp, Topic(self.dp, "rt/tf", m.TFMessage), qos=rel)
+        self.path = DataReader(self.dp, Topic(self.dp, "rt/keylo/path", m.Path), qos=rel)
+
+    def wait_matched(self, timeout=30.0):
+        t0 = time.time()
+        while time.time() - t0 < timeout:
+            if (self.points.get_publication_matched_status().current_count > 0
+                    and self.odom.get_subscription_matched_status().current_count > 0):
+                return True
+            time.sleep(0.05)
+        return False
+
+    def answer(self, timeout):
+        t0 = time.time()
+        while time.time() - t0 < timeout:
+            got = self.odom.take(N=1)
+            if got:
+                return got[0], time.time()
+            time.sleep(0.001)
+        return None, time.time()
+
+
+def run_stream(name, clouds, args, work, bad_after=None, config_sets=(), config=None):
+    print(f"== {name}: {len(clouds)} clouds of {clouds[0]['height']}x{clouds[0]['width']}", flush=True)
+    out = work / name
+    out.mkdir(parents=True, exist_ok=True)
+    bag = out / "reference.mcap"
+    write_reference_bag(bag, clouds)
+    ref_dir = out / "keylo-run"
+    sets = []
+    for s in ("output.exact=true",) + tuple(config_sets):
+        sets += ["--set", s]
+    cfg = [str(config)] if config else []
+    r = subprocess.run([args.keylo, "-q", "run"] + cfg + ["--data", str(bag), "--out", str(ref_dir),
+                        "--prefetch", "0"] + sets, capture_output=True, text=True)
+    if not check(r.returncode == 0, f"{name}: keylo run on the reference bag: {r.stderr[-2000:]}"):
+        return
+    ref = read_tum(ref_dir / "trajectory.tum")
+
+    node_dir = out / "keylo-ros2"
+    log_path = out / "node.log"
+    with open(log_path, "w") as log:
+        node = subprocess.Popen(
+            [args.keylo, "ros2"] + cfg + ["--out", str(node_dir), "--set", "ros2.input_reliability=reliable",
+             "--set", f"ros2.domain_id={args.domain}"] + sets, stdout=log, stderr=log)
+    peer = Peer(args.domain)
+    try:
+        if not check(peer.wait_matched(), f"{name}: the node's topics were not discovered"):
+            return
+        answers = []
+        bad_sent = []
+        for k, c in enumerate(clouds):
+            peer.points.write(to_dds(c))
+            msg, _ = peer.answer(args.answer_timeout)
+            check(msg is not None, f"{name}: scan {k} (stamp {c['stamp_ns']}) was not answered")
+            answers.append(msg)
+            if bad_after is not None and k == bad_after:
+                for fault, bad in bad_clouds(c, clouds[0]["stamp_ns"] - 10**9):
+                    peer.points.write(to_dds(bad))
+                    bad_sent.append(fault)
+                    late, _ = peer.answer(0.5)
+                    check(late is None, f"{name}: the bad cloud ({fault}) was answered")
+        time.sleep(0.3)
+        tfs = peer.tf.take(N=1000)
+        paths = peer.path.take(N=1000)
+    finally:
+        node.send_signal(signal.SIGINT)
+        try:
+            code = node.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            node.kill()
+            code = "killed after 30 s"
+    log_text = log_path.read_text()
+    check(code == 0, f"{name}: the node's exit status after SIGINT is {code}")
+
+    # The answers against keylo run on the same scans.
+    got = [a for a in answers if a is not None]
+    check(len(got) == len(clouds) == len(ref),
+          f"{name}: {len(got)} answers, {len(clouds)} scans, {len(ref)} poses of keylo run")
+    worst_t = worst_r = worst_stamp = 0.0
+    for k, (a, c) in enumerate(zip(answers, clouds)):
+        if a is None or k >= len(ref):
+            continue
+        p = a.pose.pose
+        t = np.array([p.position.x, p.position.y, p.position.z])
+        q = np.array([p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w])
+        worst_t = max(worst_t, float(np.linalg.norm(t - ref[k, 1:4])))
+        worst_r = max(worst_r, quat_angle(q, ref[k, 4:8]))
+        stamp = a.header.stamp.sec * 10**9 + a.header.stamp.nanosec
+        want, tol = end_stamp_ns(c)
+        worst_stamp = max(worst_stamp, abs(stamp - want))
+        check(abs(stamp - want) <= tol, f"{name}: scan {k}: stamp {stamp} ns, the scan's end {want} ns")
+        check(abs(stamp * 1e-9 - ref[k, 0]) < 2e-6, f"{name}: scan {k}: stamp vs keylo run's {ref[k, 0]}")
+        check(a.header.frame_id == "odom_lidar" and a.child_frame_id == c["frame_id"],
+              f"{name}: scan {k}: frames {a.header.frame_id} -> {a.child_frame_id}")
+        cov = np.array(a.pose.covariance).reshape(6, 6)
+        check(np.allclose(cov, cov.T, rtol=1e-9, atol=1e-15), f"{name}: scan {k}: covariance not symmetric")
+        check(np.linalg.eigvalsh(cov).min() > 0, f"{name}: scan {k}: covariance not positive definite")
+    check(worst_t <= 1e-6 and worst_r <= 1e-6,
+          f"{name}: poses differ from keylo run by up to {worst_t:.3e} m, {worst_r:.3e} rad")
+    print(f"{name}: {len(got)}/{len(clouds)} answered; largest difference to keylo run "
+          f"{worst_t:.2e} m, {worst_r:.2e} rad; stamps within {worst_stamp:.0f} ns of the scans' ends",
+          flush=True)
+    # TF and path follow the odometry.
+    check(len(tfs) == len(got), f"{name}: {len(tfs)} /tf messages for {len(got)} answers")
+    if tfs and got:
+        tr = tfs[-1].transforms[0]
+        last = got[-1].pose.pose.position
+        check(tr.header.frame_id == "odom_lidar" and tr.child_frame_id == clouds[0]["frame_id"]
+              and abs(tr.transform.translation.x - last.x) < 1e-12,
+              f"{name}: the last /tf does not carry the last odometry")
+    check(bool(paths) and len(paths[-1].poses) == len(got),
+          f"{name}: the last path has {len(paths[-1].poses) if paths else 0} poses for {len(got)} answers")
+    # Bad clouds: each logged with the topic and what is wrong.
+    for fault in bad_sent:
+        check(any(fault in line and "/points" in line for line in log_text.splitlines()),
+              f"{name}: no log line naming /points and `{fault}`")
+    # The node's files.
+    summary = json.loads((node_dir / "summary.json").read_text())
+    node_tum = read_tum(node_dir / "trajectory.tum")
+    check(len(node_tum) == len(got) and summary["frames"] == len(got),
+          f"{name}: the node's files hold {len(node_tum)} poses, summary {summary['frames']}")
+    check(summary["ros2"]["clouds_refused"] == len(bad_sent),
+          f"{name}: summary counts {summary['ros2']['clouds_refused']} refused clouds, {len(bad_sent)} sent")
+    print(f"{name}: {len(bad_sent)} bad clouds refused and logged; the node went on", flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--keylo", required=True)
+    ap.add_argument("--work", required=True, type=Path)
+    ap.add_argument("--kitti", type=Path, help="a KITTI sequence folder (velodyne .bin files)")
+    ap.add_argument("--kitti-frames", type=int, default=10)
+    ap.add_argument("--sim-frames", type=int, default=15)
+    ap.add_argument("--domain", type=int, default=17)
+    ap.add_argument("--answer-timeout", type=float, default=60.0)
+    args = ap.parse_args()
+    args.work.mkdir(parents=True, exist_ok=True)
+    fixture = ROOT / "tests/fixtures/ros/ouster_ros2/ouster_ros2_0.mcap"
+    # Real OS0-128 scans, organised (ouster-ros layout: t in ns, signal, reflectivity, ...).
+    run_stream("ouster-organised", bag_clouds(fixture, "/ouster/points"), args, args.work, bad_after=1)
+    # The paper's method on them: AKAZE keypoints in the cloud's own signal and range images.
+    run_stream("ouster-akaze", bag_clouds(fixture, "/ouster/points"), args, args.work,
+               config=ROOT / "configs/paper/outdoor-akaze-kiss-icp.toml")
+    # The same scans unorganised, Velodyne-style (ring, time in s).
+    run_stream("ouster-unorganised", bag_clouds(fixture, "/cloud_unorganised"), args, args.work)
+    # Simulated road, KITTI-like clouds without point times.
+    sim = args.work / "sim-road"
+    r = subprocess.run([args.keylo, "-q", "sim", "--scene", "road", "--frames", str(args.sim_frames),
+                        "--format", "kitti-bin", "--out", str(sim)], capture_output=True, text=True)
+    if check(r.returncode == 0, f"keylo sim: {r.stderr[-1000:]}"):
+        run_stream("sim-road", kitti_bins(sim, args.sim_frames, 1_700_000_000_000_000_000),
+                   args, args.work, bad_after=3)
+    if args.kitti:
+        run_stream("kitti", kitti_bins(args.kitti, args.kitti_frames, 1_317_000_000_000_000_000),
+                   args, args.work, bad_after=4)
+    if FAILURES:
+        print(f"{len(FAILURES)} check(s) failed", flush=True)
+        sys.exit(1)
+    print("all checks passed", flush=True)
+
+
+if __name__ == "__main__":
+    main()
