@@ -1,11 +1,11 @@
 //! The lean build (`default-features = false`) of the facade and of the C API: its dependency
 //! graph holds none of the heavy crates (OpenCV bindings, ONNX Runtime, libloading, parry3d,
-//! the ROS codecs), so it compiles on a machine without libopencv-dev or libclang.
+//! the ROS codecs and SQLite), so it compiles on a machine without libopencv-dev or libclang.
 
 use std::process::Command;
 
 /// Crates that only the optional features may bring in.
-const HEAVY: [&str; 8] = [
+const HEAVY: [&str; 10] = [
     "opencv",
     "ort",
     "libloading",
@@ -14,6 +14,8 @@ const HEAVY: [&str; 8] = [
     "zstd",
     "bzip2",
     "lz4",
+    "rusqlite",
+    "libsqlite3-sys",
 ];
 
 /// The names of every crate in the normal dependency graph of `package` built with `args`.
@@ -57,7 +59,7 @@ fn the_lean_graph_has_no_heavy_crate_and_the_full_one_has_them() {
         assert!(heavy.is_empty(), "{package} lean build pulls in {heavy:?}");
         // The check means something: the default build does have them.
         let full = graph(package, &[]);
-        for crate_name in ["opencv", "ort", "libloading", "parry3d", "mcap"] {
+        for crate_name in ["opencv", "ort", "libloading", "parry3d", "mcap", "rusqlite"] {
             assert!(
                 full.iter().any(|c| c == crate_name),
                 "{package}: {crate_name}"

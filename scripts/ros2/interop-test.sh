@@ -23,3 +23,6 @@ fi
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
 bash scripts/ros2/netns.sh "$VENV/bin/python" scripts/ros2/interop.py --keylo "$BIN" --work "$WORK" "$@"
+# The live Ouster source inside the node: a real capture replayed over UDP by a Python sender
+# (whole, then 5 % of the datagrams dropped), odometry equal to `keylo run` on the capture.
+bash scripts/ros2/netns.sh "$VENV/bin/python" scripts/ros2/live_ouster.py --keylo "$BIN" --work "$WORK/live"

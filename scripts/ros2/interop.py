@@ -221,9 +221,11 @@ class Peer:
         return False
 
     def answer(self, timeout):
+        """The next odometry message; Cyclone's markers of a writer gone (InvalidSample, when
+        the node ends) are not messages."""
         t0 = time.time()
         while time.time() - t0 < timeout:
-            got = self.odom.take(N=1)
+            got = [s for s in self.odom.take(N=1) if isinstance(s, m.Odometry)]
             if got:
                 return got[0], time.time()
             time.sleep(0.001)
@@ -271,8 +273,8 @@ def run_stream(name, clouds, args, work, bad_after=None, config_sets=(), config=
                     late, _ = peer.answer(0.5)
                     check(late is None, f"{name}: the bad cloud ({fault}) was answered")
         time.sleep(0.3)
-        tfs = peer.tf.take(N=1000)
-        paths = peer.path.take(N=1000)
+        tfs = [s for s in peer.tf.take(N=1000) if isinstance(s, m.TFMessage)]
+        paths = [s for s in peer.path.take(N=1000) if isinstance(s, m.Path)]
     finally:
         node.send_signal(signal.SIGINT)
         try:
@@ -335,6 +337,105 @@ def run_stream(name, clouds, args, work, bad_after=None, config_sets=(), config=
     print(f"{name}: {len(bad_sent)} bad clouds refused and logged; the node went on", flush=True)
 
 
+def pose_matrix(t, q):
+    x, y, z, w = q
+    r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                  [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                  [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    m_ = np.eye(4)
+    m_[:3, :3], m_[:3, 3] = r, t
+    return m_
+
+
+def msg_matrix(p):
+    return pose_matrix([p.position.x, p.position.y, p.position.z],
+                       [p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w])
+
+
+def run_control(clouds, gt, args, work):
+    """Reset, set-pose and a motion prior, sent as a robot's other nodes would: a wheel
+    odometry (here the simulator's ground truth) on a prior topic, a pose on keylo/set_pose,
+    an Empty on keylo/reset."""
+    name = "control"
+    print(f"== {name}: {len(clouds)} clouds, motion prior, set_pose, reset", flush=True)
+    out = work / name
+    out.mkdir(parents=True, exist_ok=True)
+    bag = out / "reference.mcap"
+    write_reference_bag(bag, clouds)
+    r = subprocess.run([args.keylo, "-q", "run", "--data", str(bag), "--out", str(out / "keylo-run"),
+                        "--prefetch", "0", "--set", "output.exact=true"], capture_output=True, text=True)
+    if not check(r.returncode == 0, f"{name}: keylo run: {r.stderr[-1500:]}"):
+        return
+    ref = read_tum(out / "keylo-run/trajectory.tum")
+    with open(out / "node.log", "w") as log:
+        node = subprocess.Popen(
+            [args.keylo, "-v", "ros2", "--out", str(out / "keylo-ros2"),
+             "--set", "ros2.input_reliability=reliable", "--set", f"ros2.domain_id={args.domain}",
+             "--set", "ros2.motion_prior_topic=/wheel/odometry"], stdout=log, stderr=log)
+    peer = Peer(args.domain)
+    rel = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.History.KeepLast(100))
+    wheel = DataWriter(peer.dp, Topic(peer.dp, "rt/wheel/odometry", m.Odometry), qos=rel)
+    set_pose = DataWriter(peer.dp, Topic(peer.dp, "rt/keylo/set_pose", m.PoseWithCovarianceStamped), qos=rel)
+    reset = DataWriter(peer.dp, Topic(peer.dp, "rt/keylo/reset", m.Empty), qos=rel)
+    answers = []
+    try:
+        ok = peer.wait_matched()
+        t0 = time.time()
+        while ok and time.time() - t0 < 30 and min(
+                w.get_publication_matched_status().current_count for w in (wheel, set_pose, reset)) == 0:
+            time.sleep(0.05)
+        def scan(k):
+            c = clouds[k]
+            g = gt[k]
+            stamp = m.Time(sec=c["stamp_ns"] // 10**9, nanosec=c["stamp_ns"] % 10**9)
+            o = m.Odometry(header=m.Header(stamp=stamp, frame_id="odom"), child_frame_id="base_link")
+            o.pose.pose = m.Pose(position=m.Point(*g[1:4]), orientation=m.Quaternion(*g[4:8]))
+            wheel.write(o)
+            time.sleep(0.2)  # the prior arrives before the scan, as it would at 100 Hz
+            peer.points.write(to_dds(c))
+            msg, _ = peer.answer(args.answer_timeout)
+            check(msg is not None, f"{name}: scan {k} not answered")
+            answers.append(msg)
+        for k in range(5):
+            scan(k)
+        # set_pose: the base is at (10, 5, 0), turned 90 degrees about z, from now on.
+        target = m.Pose(position=m.Point(10.0, 5.0, 0.0),
+                        orientation=m.Quaternion(0.0, 0.0, math.sqrt(0.5), math.sqrt(0.5)))
+        set_pose.write(m.PoseWithCovarianceStamped(header=m.Header(frame_id="odom_lidar"),
+                                                   pose=m.PoseWithCovariance(pose=target)))
+        time.sleep(0.3)
+        scan(5)
+        reset.write(m.Empty())
+        time.sleep(0.3)
+        scan(6)
+        scan(7)
+    finally:
+        node.send_signal(signal.SIGINT)
+        code = node.wait(timeout=30)
+    check(code == 0, f"{name}: exit status {code}")
+    if len(answers) < 8 or any(a is None for a in answers):
+        return
+    pos = lambda a: np.array([a.pose.pose.position.x, a.pose.pose.position.y, a.pose.pose.position.z])
+    # With the prior (ground truth), the poses stay those of keylo run within centimetres.
+    worst = max(float(np.linalg.norm(pos(answers[k]) - ref[k, 1:4])) for k in range(5))
+    check(worst < 0.05, f"{name}: with the motion prior, poses {worst:.3f} m from keylo run's")
+    # set_pose: scan 5 continues from the pose set, by the motion keylo run found.
+    rel5 = np.linalg.inv(pose_matrix(ref[4, 1:4], ref[4, 4:8])) @ pose_matrix(ref[5, 1:4], ref[5, 4:8])
+    want5 = msg_matrix(target) @ rel5
+    err5 = float(np.linalg.norm(pos(answers[5]) - want5[:3, 3]))
+    check(err5 < 0.05, f"{name}: after set_pose, scan 5 at {pos(answers[5])}, expected {want5[:3, 3]}")
+    # reset: the next scan starts over at the identity.
+    check(float(np.linalg.norm(pos(answers[6]))) == 0.0 and answers[6].pose.pose.orientation.w == 1.0,
+          f"{name}: after reset, scan 6 at {pos(answers[6])}")
+    summary = json.loads((out / "keylo-ros2/summary.json").read_text())["ros2"]
+    # Every scan with a scan before it (not the first, not the first after the reset).
+    check(summary["motion_priors_used"] == 6 and summary["poses_set"] == 1 and summary["resets"] == 1,
+          f"{name}: node counts {summary}")
+    print(f"{name}: motion prior used on {summary['motion_priors_used']} scans (poses within {worst:.3f} m "
+          f"of keylo run); set_pose continued within {err5:.4f} m; reset started over at the identity",
+          flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--keylo", required=True)
@@ -359,8 +460,10 @@ def main():
     r = subprocess.run([args.keylo, "-q", "sim", "--scene", "road", "--frames", str(args.sim_frames),
                         "--format", "kitti-bin", "--out", str(sim)], capture_output=True, text=True)
     if check(r.returncode == 0, f"keylo sim: {r.stderr[-1000:]}"):
-        run_stream("sim-road", kitti_bins(sim, args.sim_frames, 1_700_000_000_000_000_000),
-                   args, args.work, bad_after=3)
+        sim_clouds = kitti_bins(sim, args.sim_frames, 1_700_000_000_000_000_000)
+        run_stream("sim-road", sim_clouds, args, args.work, bad_after=3)
+        if len(sim_clouds) >= 8:
+            run_control(sim_clouds, read_tum(sim / "gt.tum"), args, args.work)
     if args.kitti:
         run_stream("kitti", kitti_bins(args.kitti, args.kitti_frames, 1_317_000_000_000_000_000),
                    args, args.work, bad_after=4)

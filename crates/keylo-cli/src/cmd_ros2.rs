@@ -52,8 +52,16 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         }
         None => None,
     };
+    // A live sensor named by the config's [source] feeds the node instead of the points topic.
+    let source = match config.source.kind.as_str() {
+        "ouster-udp" => Some(keylo::build_source(&config, &registry)?),
+        _ => None,
+    };
     let mut node = Ros2Node::start(ros2, &odometry)?;
-    if let Err(e) = ctrlc::set_handler(|| STOP.store(true, Ordering::SeqCst)) {
+    if let Err(e) = ctrlc::set_handler(|| {
+        STOP.store(true, Ordering::SeqCst);
+        keylo::io::ouster::stop_live_sources();
+    }) {
         tracing::warn!("Ctrl-C will not end the node cleanly: {e}");
     }
     let idle = (args.idle_timeout > 0.0).then(|| Duration::from_secs_f64(args.idle_timeout));
@@ -62,7 +70,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     let mut totals = Totals::default();
     let mut trajectory = Trajectory::default();
     let mut write_error: Option<anyhow::Error> = None;
-    let stats = node.run(&mut odometry, &STOP, idle, |p| {
+    let on_frame = |p: &keylo_ros2::Published| {
         totals.add(p.result);
         totals.odometry_seconds += p.seconds;
         trajectory.push(p.result.stamp, p.result.pose);
@@ -82,7 +90,16 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
                 write_error = Some(e);
             }
         }
-    });
+    };
+    let (stats, counters) = match source {
+        Some(source) => {
+            let (stats, source) = node.run_source(&mut odometry, source, &STOP, on_frame);
+            (stats, source.counters())
+        }
+        None => (node.run(&mut odometry, &STOP, idle, on_frame), Vec::new()),
+    };
+    let counters: std::collections::BTreeMap<String, u64> = counters.into_iter().collect();
+    report::log_counters(&counters);
     let wall = start.elapsed().as_secs_f64();
     if !quiet {
         eprintln!(
@@ -99,7 +116,11 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         let mut summary = Summary {
             keylo_version: env!("CARGO_PKG_VERSION"),
             config: config.origin.clone(),
-            source: "ROS 2 topic (keylo ros2)".into(),
+            source: if counters.is_empty() {
+                "ROS 2 topic (keylo ros2)".into()
+            } else {
+                format!("{} (keylo ros2)", config.source.kind)
+            },
             wall_hz: if wall > 0.0 {
                 totals.frames as f64 / wall
             } else {
@@ -111,6 +132,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
                 .map(|(a, b)| 100.0 * (b - a) / wall.max(1e-9)),
             path_length_m: trajectory.path_length(),
             ros2: serde_json::to_value(&stats).ok(),
+            source_counters: counters,
             ..Summary::default()
         };
         totals.fill(&mut summary);

@@ -97,6 +97,8 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         ..Summary::default()
     };
     outcome.totals.fill(&mut summary);
+    summary.source_counters = pipeline.source.counters().into_iter().collect();
+    report::log_counters(&summary.source_counters);
     summary.degeneracy = degeneracy_out::summarise(&outcome.degeneracy);
     // The options map the clock of a reference file given to the run, not a source's own.
     let map = match &gt_given {
@@ -180,7 +182,11 @@ fn process_all(
     outputs: &mut Outputs,
     st: &mut RunState,
 ) {
-    if let Err(e) = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst)) {
+    if let Err(e) = ctrlc::set_handler(|| {
+        INTERRUPTED.store(true, Ordering::SeqCst);
+        // A live source waiting for packets ends its stream (the frame in progress is kept).
+        keylo::io::ouster::stop_live_sources();
+    }) {
         tracing::warn!("Ctrl-C will not save partial results: {e}");
     }
     // Index of the next frame, for messages about a frame the source could not read.

@@ -8,9 +8,9 @@ mod cmd_convert;
 mod cmd_eval;
 mod cmd_info;
 mod cmd_plugins;
-mod cmd_run;
 #[cfg(feature = "ros2")]
 mod cmd_ros2;
+mod cmd_run;
 mod cmd_sim;
 mod compare;
 mod configs;

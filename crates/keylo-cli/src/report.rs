@@ -69,6 +69,10 @@ pub struct Summary {
     pub association_warning: Option<String>,
     /// The registrar's degeneracy analysis over the run (per frame in `degeneracy.csv`).
     pub degeneracy: Option<crate::degeneracy_out::DegeneracySummary>,
+    /// What the source counted while reading (a live sensor: `packets_lost`, datagrams of
+    /// other sizes or sensors, IMU packets).
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub source_counters: std::collections::BTreeMap<String, u64>,
     /// `keylo ros2`: clouds received, dropped, refused and registered by the node.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ros2: Option<serde_json::Value>,
@@ -215,4 +219,17 @@ pub fn table(s: &Summary) -> String {
         out.push_str(&format!("  {k:<28} {late:>12}\n"));
     }
     out
+}
+
+/// Logs a source's loss counters: lost packets and skipped datagrams as a warning.
+pub fn log_counters(counters: &std::collections::BTreeMap<String, u64>) {
+    let lost = counters.get("packets_lost").copied().unwrap_or(0);
+    let garbage = counters.get("datagrams_other_size").copied().unwrap_or(0)
+        + counters.get("datagrams_other_sensor").copied().unwrap_or(0);
+    if lost > 0 {
+        tracing::warn!("{lost} packets lost (their columns are invalid in their frames)");
+    }
+    if garbage > 0 {
+        tracing::info!("{garbage} datagrams skipped (not lidar packets of this sensor)");
+    }
 }

@@ -50,6 +50,11 @@ pub fn register(registry: &mut keylo_core::Registry) {
         |c, ctx| Ok(Box::new(ouster::OusterSource::open(&c, ctx)?)),
     );
     registry.add_source_probe("ouster", ouster::is_pcap);
+    registry.sources.add::<ouster::OusterUdpConfig>(
+        "ouster-udp",
+        "an Ouster sensor live: its lidar UDP packets on `lidar_port`, with its metadata JSON (`meta`)",
+        |c, ctx| Ok(Box::new(ouster::OusterSource::open_udp(&c, ctx)?)),
+    );
     registry.sources.add::<kitti::KittiSourceConfig>(
         "kitti",
         "a KITTI odometry folder (velodyne/*.bin, times.txt, calib.txt; poses as LiDAR ground truth)",
@@ -82,7 +87,7 @@ fn register_ros(registry: &mut keylo_core::Registry) {
     );
     registry.sources.add::<ros::BagSourceConfig>(
         "mcap",
-        "an MCAP file or ROS2 bag folder: sensor_msgs/PointCloud2 clouds (organised or projected), optional sensor_msgs/Image channels",
+        "an MCAP file, ROS2 sqlite3 .db3 file or ROS2 bag folder (storage mcap or sqlite3): sensor_msgs/PointCloud2 clouds (organised or projected), optional sensor_msgs/Image channels",
         |c, ctx| Ok(Box::new(ros::BagSource::open(&c, ctx, ros::BagFormat::Mcap)?)),
     );
     registry.add_source_probe("ros1-bag", ros::is_ros1_bag);

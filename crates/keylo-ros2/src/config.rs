@@ -36,6 +36,9 @@ pub struct Ros2Config {
     pub path_max_poses: usize,
     /// The robot frame the odometry is of (`child_frame_id`); empty: the cloud's frame.
     pub base_frame: String,
+    /// The LiDAR's frame when frames come from the config's `[source]` (a live `ouster-udp`
+    /// sensor) instead of the points topic (ouster-ros names it `os_sensor`).
+    pub sensor_frame: String,
     /// The odometry frame (`header.frame_id` of the odometry, parent of `base_frame` in TF).
     pub lidar_odom_frame: String,
     /// Publish `lidar_odom_frame → base_frame` on `/tf`.
@@ -88,6 +91,7 @@ impl Default for Ros2Config {
             path_topic: "keylo/path".into(),
             path_max_poses: 10_000,
             base_frame: String::new(),
+            sensor_frame: "os_sensor".into(),
             lidar_odom_frame: "odom_lidar".into(),
             publish_odom_tf: true,
             invert_odom_tf: false,
@@ -111,12 +115,19 @@ impl Default for Ros2Config {
 impl Ros2Config {
     /// Reads and checks the `[ros2]` table of a config (`origin` names the file).
     pub fn from_table(table: &toml::Table, origin: &str) -> Result<Self, Ros2Error> {
-        let config: Self = toml::Value::Table(table.clone())
-            .try_into()
-            .map_err(|e: toml::de::Error| Ros2Error::Config {
+        let value = toml::Value::Table(table.clone());
+        let config: Self = serde_path_to_error::deserialize(value).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            Ros2Error::Config {
                 origin: origin.into(),
-                message: e.message().to_string(),
-            })?;
+                message: if path == "." {
+                    format!("[ros2] {}", inner.message())
+                } else {
+                    format!("ros2.{path}: {}", inner.message())
+                },
+            }
+        })?;
         config.check().map_err(|message| Ros2Error::Config {
             origin: origin.into(),
             message,
@@ -143,7 +154,44 @@ impl Ros2Config {
                 return Err(format!("ros2.{key} is {v}; expected a positive number"));
             }
         }
+        self.check_names()?;
         crate::frames::extrinsic(&self.base_to_lidar).map(|_| ())
+    }
+
+    /// Topic and node names as ROS 2 accepts them (checked before joining DDS).
+    fn check_names(&self) -> Result<(), String> {
+        let ns = if self.namespace.starts_with('/') {
+            self.namespace.clone()
+        } else {
+            format!("/{}", self.namespace)
+        };
+        ros2_client::NodeName::new(&ns, &self.node_name).map_err(|e| {
+            format!(
+                "ros2.node_name `{}` in ros2.namespace `{}` is not a valid ROS 2 node name ({e:?})",
+                self.node_name, self.namespace
+            )
+        })?;
+        for (key, topic) in [
+            ("points_topic", &self.points_topic),
+            ("odometry_topic", &self.odometry_topic),
+            ("path_topic", &self.path_topic),
+            ("reset_topic", &self.reset_topic),
+            ("set_pose_topic", &self.set_pose_topic),
+            ("motion_prior_topic", &self.motion_prior_topic),
+            ("registered_cloud_topic", &self.registered_cloud_topic),
+            ("keypoint_cloud_topic", &self.keypoint_cloud_topic),
+            ("local_map_topic", &self.local_map_topic),
+            ("keypoint_image_topic", &self.keypoint_image_topic),
+        ] {
+            if topic.is_empty() {
+                continue;
+            }
+            let full = crate::dds::resolve(&ns, topic);
+            ros2_client::Name::parse(&full).map_err(|e| {
+                format!("ros2.{key} `{topic}` is not a valid ROS 2 topic name ({e:?})")
+            })?;
+        }
+        Ok(())
     }
 
     /// The DDS domain: `domain_id`, else `ROS_DOMAIN_ID`, else 0.
@@ -152,12 +200,10 @@ impl Ros2Config {
             return Ok(d);
         }
         match std::env::var("ROS_DOMAIN_ID") {
-            Ok(v) if !v.trim().is_empty() => {
-                v.trim().parse().map_err(|_| Ros2Error::Config {
-                    origin: "environment".into(),
-                    message: format!("ROS_DOMAIN_ID is `{v}`; expected 0..=232"),
-                })
-            }
+            Ok(v) if !v.trim().is_empty() => v.trim().parse().map_err(|_| Ros2Error::Config {
+                origin: "environment".into(),
+                message: format!("ROS_DOMAIN_ID is `{v}`; expected 0..=232"),
+            }),
             _ => Ok(0),
         }
     }
@@ -192,6 +238,10 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("base_to_lidar"), "{e}");
+        let e = parse("points_topic = \"/a//b\"").unwrap_err().to_string();
+        assert!(e.contains("ros2.points_topic"), "{e}");
+        let e = parse("node_name = \"9lives\"").unwrap_err().to_string();
+        assert!(e.contains("ros2.node_name"), "{e}");
         let e = parse("max_pending_clouds = 0").unwrap_err().to_string();
         assert!(e.contains("max_pending_clouds"), "{e}");
         let e = parse("residual_sigma_m = -1.0").unwrap_err().to_string();

@@ -25,8 +25,8 @@ use crate::Ros2Error;
 #[derive(Debug, Clone)]
 pub enum Command {
     Reset,
-    SetPose(msgs::PoseWithCovarianceStamped),
-    MotionPrior(msgs::Odometry),
+    SetPose(Box<msgs::PoseWithCovarianceStamped>),
+    MotionPrior(Box<msgs::Odometry>),
 }
 
 /// The node's writers (`None`: the topic is off).
@@ -315,12 +315,12 @@ impl Readers {
             }
             if let Some((r, topic)) = &self.set_pose {
                 drain(r, topic, undecodable, |m| {
-                    let _ = commands.send(Command::SetPose(m));
+                    let _ = commands.send(Command::SetPose(Box::new(m)));
                 });
             }
             if let Some((r, topic)) = &self.prior {
                 drain(r, topic, undecodable, |m| {
-                    let _ = commands.send(Command::MotionPrior(m));
+                    let _ = commands.send(Command::MotionPrior(Box::new(m)));
                 });
             }
         }

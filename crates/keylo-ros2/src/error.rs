@@ -5,7 +5,7 @@
 #[derive(Debug, thiserror::Error)]
 pub enum Ros2Error {
     /// A `[ros2]` setting is wrong.
-    #[error("{origin}: [ros2] {message}")]
+    #[error("{origin}: {message}")]
     Config { origin: String, message: String },
     /// The DDS participant, a topic, a reader or a writer could not be made.
     #[error("DDS: {0}")]

@@ -131,6 +131,16 @@ impl BaseFrame {
     }
 }
 
+/// A pose covariance (ROS order, row-major) of a pose `P` as the covariance of `C · P`: both
+/// blocks turn with `C`'s rotation (its translation moves nothing uncertain).
+pub fn rotate_covariance(cov: &[f64; 36], c: &Isometry3<f64>) -> [f64; 36] {
+    let r = c.rotation.to_rotation_matrix().into_inner();
+    let mut j = Matrix6::<f64>::zeros();
+    j.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
+    j.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);
+    row_major(&(j * Matrix6::from_row_slice(cov) * j.transpose()))
+}
+
 /// The fixed diagonal of KISS-ICP's node: position variance on x y z, orientation on the rest.
 pub fn diagonal_covariance(position: f64, orientation: f64) -> [f64; 36] {
     let mut out = [0.0; 36];
@@ -191,7 +201,9 @@ mod tests {
         let a = iso([0.5, 0.0, 1.2], [0.0, 0.0, 0.3]);
         let f = BaseFrame::new(a);
         let id = f.base_pose(&Isometry3::identity());
-        assert!((id.to_homogeneous() - Isometry3::<f64>::identity().to_homogeneous()).norm() < 1e-12);
+        assert!(
+            (id.to_homogeneous() - Isometry3::<f64>::identity().to_homogeneous()).norm() < 1e-12
+        );
         let l = iso([1.0, 2.0, 0.1], [0.01, -0.02, 0.5]);
         let back = f.lidar_pose(&f.base_pose(&l));
         assert!((back.to_homogeneous() - l.to_homogeneous()).norm() < 1e-12);

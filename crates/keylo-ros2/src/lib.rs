@@ -16,6 +16,7 @@ pub mod msgs;
 mod outputs;
 mod prior;
 mod runner;
+mod source_input;
 
 pub use config::{Reliability, Ros2Config};
 pub use error::Ros2Error;

@@ -16,6 +16,8 @@ pub struct OdometryParts<'a> {
     /// The base's pose and stamp (s) of the previous frame, for the twist.
     pub previous: Option<(Isometry3<f64>, f64)>,
     pub base: &'a BaseFrame,
+    /// The set-pose correction: published pose = anchor · base pose.
+    pub anchor: &'a Isometry3<f64>,
     pub sigma: f64,
     /// Fallback `(position, orientation)` variances.
     pub fallback: (f64, f64),
@@ -24,14 +26,15 @@ pub struct OdometryParts<'a> {
 /// `nav_msgs/Odometry` of a frame; the second value says whether the covariance is keylo's
 /// own estimate (false: the fixed fallback diagonal).
 pub fn odometry(r: &FrameResult, p: &OdometryParts) -> (msgs::Odometry, bool) {
-    let base_pose = p.base.base_pose(&r.pose);
+    let base_pose = p.anchor * p.base.base_pose(&r.pose);
     let estimated = r
         .degeneracy
         .as_ref()
         .and_then(|d| d.covariance(p.sigma))
         .filter(|c| c.iter().flatten().all(|v| v.is_finite()))
-        .map(|c| p.base.pose_covariance(&r.pose, &c));
-    let pose_cov = estimated.unwrap_or_else(|| frames::diagonal_covariance(p.fallback.0, p.fallback.1));
+        .map(|c| frames::rotate_covariance(&p.base.pose_covariance(&r.pose, &c), p.anchor));
+    let pose_cov =
+        estimated.unwrap_or_else(|| frames::diagonal_covariance(p.fallback.0, p.fallback.1));
     let (twist, twist_cov) = match p.previous {
         Some((before, t0)) => {
             let dt = r.stamp - t0;
@@ -66,7 +69,11 @@ fn twist_covariance(pose_cov: &[f64; 36], base_pose: &Isometry3<f64>, dt: f64) -
     if !(dt > 0.0 && dt.is_finite()) {
         return [0.0; 36];
     }
-    let r = base_pose.rotation.to_rotation_matrix().into_inner().transpose();
+    let r = base_pose
+        .rotation
+        .to_rotation_matrix()
+        .into_inner()
+        .transpose();
     let mut j = nalgebra::Matrix6::<f64>::zeros();
     j.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
     j.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);

@@ -47,7 +47,10 @@ impl PriorTrack {
             return None;
         }
         let after = self.poses.partition_point(|(s, _)| *s < t);
-        match (after.checked_sub(1).map(|i| self.poses[i]), self.poses.get(after)) {
+        match (
+            after.checked_sub(1).map(|i| self.poses[i]),
+            self.poses.get(after),
+        ) {
             (Some((t0, p0)), Some(&(t1, p1))) => Some(p0.lerp_slerp(&p1, (t - t0) / (t1 - t0))),
             (Some((_, p)), None) | (None, Some(&(_, p))) => Some(p),
             (None, None) => None,

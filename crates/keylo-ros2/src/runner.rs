@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use keylo_core::{CoreError, FrameFeatures, FrameResult, LidarFrame, Odometry};
-use keylo_io::cloud::{Projector, ProjectionConfig, Sensor};
+use keylo_io::cloud::{ProjectionConfig, Projector, Sensor};
 use keylo_io::ros::CloudFramer;
 use nalgebra::Isometry3;
 
@@ -33,6 +33,11 @@ pub struct NodeStats {
     pub frames: u64,
     /// Frames whose covariance was the fixed fallback (no estimate from the registrar).
     pub fallback_covariances: u64,
+    /// Frames whose initial guess came from the motion prior topic.
+    pub motion_priors_used: u64,
+    /// Reset and set-pose commands carried out.
+    pub resets: u64,
+    pub poses_set: u64,
 }
 
 /// One registered frame, as the node published it.
@@ -46,8 +51,8 @@ pub struct Published<'a> {
 
 /// The ROS 2 node: DDS in and out around an [`Odometry`].
 pub struct Ros2Node {
-    config: Ros2Config,
-    dds: Dds,
+    pub(crate) config: Ros2Config,
+    pub(crate) dds: Dds,
     framer: CloudFramer,
     base: BaseFrame,
     points_topic: String,
@@ -55,10 +60,14 @@ pub struct Ros2Node {
     prior: PriorTrack,
     /// The frame of the first cloud; later clouds must keep it.
     cloud_frame: Option<String>,
-    /// The previous frame's base pose and end stamp (s).
+    /// The previous frame's published base pose and end stamp (s).
     previous: Option<(Isometry3<f64>, f64)>,
+    /// The last frame's base pose before `anchor` (keylo's own, from the first scan).
+    last_raw_base: Option<Isometry3<f64>>,
+    /// Set by set-pose: published pose = anchor · keylo's base pose.
+    anchor: Isometry3<f64>,
     next_index: u64,
-    stats: NodeStats,
+    pub(crate) stats: NodeStats,
     want_features: bool,
     pending_prior: bool,
 }
@@ -66,12 +75,12 @@ pub struct Ros2Node {
 impl Ros2Node {
     /// Joins DDS and makes the topics of `config` for `odometry`'s pipeline.
     pub fn start(config: Ros2Config, odometry: &Odometry) -> Result<Self, Ros2Error> {
-        let base = BaseFrame::new(
-            frames::extrinsic(&config.base_to_lidar).map_err(|message| Ros2Error::Config {
+        let base = BaseFrame::new(frames::extrinsic(&config.base_to_lidar).map_err(|message| {
+            Ros2Error::Config {
                 origin: "config".into(),
                 message,
-            })?,
-        );
+            }
+        })?);
         let projector = Projector::from_config(&ProjectionConfig::default(), Sensor::Generic)
             .map_err(|e| Ros2Error::Config {
                 origin: "projection".into(),
@@ -98,6 +107,8 @@ impl Ros2Node {
             prior: PriorTrack::default(),
             cloud_frame: None,
             previous: None,
+            last_raw_base: None,
+            anchor: Isometry3::identity(),
             next_index: 0,
             stats: NodeStats::default(),
             pending_prior: false,
@@ -141,14 +152,17 @@ impl Ros2Node {
         }
     }
 
-    fn command(&mut self, odometry: &mut Odometry, c: Command) {
+    pub(crate) fn command(&mut self, odometry: &mut Odometry, c: Command) {
         match c {
             Command::Reset => match odometry.reset() {
                 Ok(()) => {
                     self.previous = None;
+                    self.last_raw_base = None;
+                    self.anchor = Isometry3::identity();
                     self.cloud_frame = None;
                     self.path.clear();
                     self.prior.clear();
+                    self.stats.resets += 1;
                     tracing::info!("ros2: reset: map and motion forgotten");
                 }
                 Err(e) => tracing::warn!("ros2: reset refused: {e}"),
@@ -161,7 +175,8 @@ impl Ros2Node {
                     );
                     return;
                 };
-                if !m.header.frame_id.is_empty() && m.header.frame_id != self.config.lidar_odom_frame
+                if !m.header.frame_id.is_empty()
+                    && m.header.frame_id != self.config.lidar_odom_frame
                 {
                     tracing::warn!(
                         "{}: the pose is in `{}`, expected `{}`; ignored",
@@ -171,14 +186,15 @@ impl Ros2Node {
                     );
                     return;
                 }
-                match odometry.set_pose(&self.base.lidar_pose(&base)) {
-                    Ok(()) => {
-                        // The next twist would otherwise jump by the set-pose step.
-                        self.previous = self.previous.map(|(_, t)| (base, t));
-                        tracing::info!("ros2: pose set");
-                    }
-                    Err(e) => tracing::warn!("ros2: set_pose refused: {e}"),
-                }
+                // The published odometry is re-anchored: the base is at `base` now and moves on
+                // from there. keylo's own map and poses are left as they are, so registration
+                // goes on against a consistent map.
+                let raw = self.last_raw_base.unwrap_or_else(Isometry3::identity);
+                self.anchor = base * raw.inverse();
+                // The next twist would otherwise jump by the set-pose step.
+                self.previous = self.previous.map(|(_, t)| (base, t));
+                self.stats.poses_set += 1;
+                tracing::info!("ros2: pose set");
             }
             Command::MotionPrior(m) => {
                 if let Err(e) = self.prior.push(&m) {
@@ -233,26 +249,45 @@ impl Ros2Node {
             Ok(f) => f,
             Err(e) => return self.refuse(msg, &e),
         };
-        self.apply_prior(odometry, &frame);
+        let header = (msg.header.stamp.to_ns(), msg.header.frame_id.as_str());
+        if let Err(e) = self.register(odometry, &frame, header, on_frame) {
+            self.refuse(msg, &e);
+        }
+    }
+
+    /// Registers a frame whose cloud was stamped `stamp_ns` in `frame_id`, publishes the
+    /// results; `Err` is the stage's message.
+    pub(crate) fn register(
+        &mut self,
+        odometry: &mut Odometry,
+        frame: &LidarFrame,
+        (stamp_ns, frame_id): (i64, &str),
+        on_frame: &mut impl FnMut(&Published),
+    ) -> Result<(), String> {
+        self.apply_prior(odometry, frame);
         let t = Instant::now();
-        let processed = process_guarded(odometry, &frame, self.want_features);
+        let processed = process_guarded(odometry, frame, self.want_features);
         let seconds = t.elapsed().as_secs_f64();
-        let (result, features) = match processed {
-            Ok(r) => r,
-            Err(e) => return self.refuse(msg, &e.to_string()),
-        };
-        self.cloud_frame = Some(msg.header.frame_id.clone());
+        let (result, features) = processed.map_err(|e| e.to_string())?;
+        self.cloud_frame = Some(frame_id.to_string());
         self.next_index += 1;
         // The end of the scan on the cloud's own clock: its stamp plus the latest point time.
-        let stamp_ns = msg.header.stamp.to_ns()
-            + ((result.stamp - frame.timestamp) * 1e9).round() as i64;
-        self.publish(odometry, &result, &frame, features.as_ref(), msg, stamp_ns);
+        let end_ns = stamp_ns + ((result.stamp - frame.timestamp) * 1e9).round() as i64;
+        self.publish(
+            odometry,
+            &result,
+            frame,
+            features.as_ref(),
+            frame_id,
+            end_ns,
+        );
         self.stats.frames += 1;
         on_frame(&Published {
             result: &result,
-            stamp_ns,
+            stamp_ns: end_ns,
             seconds,
         });
+        Ok(())
     }
 
     /// Gives the registrar the other odometry's motion between the last scan and this one.
@@ -270,9 +305,12 @@ impl Ros2Node {
         // The other odometry tracks the base; keylo's motion is the LiDAR's.
         let a = self.base.extrinsic();
         let lidar_motion = a.inverse() * base_motion * a;
-        if let Err(e) = odometry.set_motion_prior(&lidar_motion) {
-            tracing::warn!("ros2: motion prior refused: {e}");
-            self.pending_prior = false;
+        match odometry.set_motion_prior(&lidar_motion) {
+            Ok(()) => self.stats.motion_priors_used += 1,
+            Err(e) => {
+                tracing::warn!("ros2: motion prior refused: {e}");
+                self.pending_prior = false;
+            }
         }
     }
 
@@ -282,11 +320,10 @@ impl Ros2Node {
         r: &FrameResult,
         frame: &LidarFrame,
         features: Option<&FrameFeatures>,
-        msg: &msgs::PointCloud2,
+        cloud_frame: &str,
         stamp_ns: i64,
     ) {
         let stamp = Time::from_ns(stamp_ns);
-        let cloud_frame = msg.header.frame_id.as_str();
         let base_frame = if self.config.base_frame.is_empty() {
             cloud_frame
         } else {
@@ -300,6 +337,7 @@ impl Ros2Node {
                 stamp,
                 previous: self.previous,
                 base: &self.base,
+                anchor: &self.anchor,
                 sigma: self.config.residual_sigma_m,
                 fallback: (
                     self.config.position_covariance,
@@ -310,12 +348,17 @@ impl Ros2Node {
         if !estimated {
             self.stats.fallback_covariances += 1;
         }
-        let base_pose = self.base.base_pose(&r.pose);
+        let raw_base = self.base.base_pose(&r.pose);
+        let base_pose = self.anchor * raw_base;
+        self.last_raw_base = Some(raw_base);
         self.previous = Some((base_pose, r.stamp));
         let w = &self.dds.writers;
         let topic = &self.config.odometry_topic;
         if let Some(tf) = &w.tf {
-            report(tf.publish(outputs::tf(&odom, &base_pose, self.config.invert_odom_tf)), "/tf");
+            report(
+                tf.publish(outputs::tf(&odom, &base_pose, self.config.invert_odom_tf)),
+                "/tf",
+            );
         }
         if let Some(p) = &w.path {
             report(p.publish(self.path.push(&odom)), &self.config.path_topic);
@@ -333,7 +376,7 @@ impl Ros2Node {
         }
         if let Some(p) = &w.local_map {
             // The map is in the first scan's LiDAR frame; the odometry frame is the base's.
-            let to_odom = self.base.extrinsic();
+            let to_odom = self.anchor * self.base.extrinsic();
             let pts = odometry.local_map().into_iter().map(|q| to_odom * q);
             let m = outputs::cloud(pts, stamp, &self.config.lidar_odom_frame);
             report(p.publish(m), &self.config.local_map_topic);

@@ -28,7 +28,8 @@ fn wire<T: Serialize>(value: &T) -> Vec<u8> {
         [0, 1],
         "CDR_LE"
     );
-    let body = <CDRSerializerAdapter<T> as SerializerAdapter<T>>::to_bytes(value).expect("serialises");
+    let body =
+        <CDRSerializerAdapter<T> as SerializerAdapter<T>>::to_bytes(value).expect("serialises");
     let mut out = vec![0, 1, 0, 0];
     out.extend_from_slice(&body);
     out
@@ -122,7 +123,12 @@ fn tf_message() {
         "tf",
         &TfMessage {
             transforms: vec![
-                ts(header(17, 5, "odom_lidar"), "base_link", v3(3.0, -4.0, 5.5), 0.0),
+                ts(
+                    header(17, 5, "odom_lidar"),
+                    "base_link",
+                    v3(3.0, -4.0, 5.5),
+                    0.0,
+                ),
                 ts(header(18, 6, "a"), "bc", v3(-1.0, 0.0, 2.0), 1.0),
             ],
         },

@@ -87,6 +87,10 @@ impl ImageSource for Paced {
         self.source.frame_origin(index)
     }
 
+    fn counters(&self) -> Vec<(String, u64)> {
+        self.source.counters()
+    }
+
     fn ground_truth(&self) -> Option<Trajectory> {
         self.source.ground_truth()
     }

@@ -85,6 +85,10 @@ impl ImageSource for Prefetched {
         self.with_source(|s| s.frame_origin(index))
     }
 
+    fn counters(&self) -> Vec<(String, u64)> {
+        self.with_source(|s| s.counters())
+    }
+
     fn set_grid_needed(&mut self, needed: bool) {
         // Frames already read ahead keep the grid they were read with.
         self.source

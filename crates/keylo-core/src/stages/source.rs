@@ -35,6 +35,11 @@ pub trait ImageSource: Send {
         let _ = index;
         None
     }
+    /// Counts the source keeps while reading (`packets_lost`, `datagrams_other_size`, …), for
+    /// the run's summary and log. Empty by default.
+    fn counters(&self) -> Vec<(String, u64)> {
+        Vec::new()
+    }
     /// Ground truth shipped with the data (e.g. the simulator's `gt.tum`), if any.
     fn ground_truth(&self) -> Option<crate::Trajectory> {
         None::<Trajectory>

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::datagrams::Datagrams;
 use super::metadata::OusterMetadata;
 use super::packet::{PacketFormat, RawFrame};
 use super::pcap::UdpReader;
@@ -26,10 +27,10 @@ pub struct Skipped {
     pub other_sensor: usize,
 }
 
-/// Reads the frames of an Ouster pcap, staggered, in capture order.
+/// Reads the frames of an Ouster pcap or live stream, staggered, in arrival order.
 pub struct Batcher {
     path: PathBuf,
-    reader: UdpReader,
+    reader: Box<dyn Datagrams>,
     format: PacketFormat,
     window: (usize, usize),
     port: Option<u16>,
@@ -46,10 +47,21 @@ impl Batcher {
     /// (any port when `None`) of the packet size of `meta`'s profile, from the sensor with
     /// `meta`'s serial number and init id (when the metadata and the packets carry them).
     pub fn open(pcap: &Path, meta: &OusterMetadata, port: Option<u16>) -> Result<Self, IoError> {
-        let format = PacketFormat::new(meta).map_err(|m| IoError::format(pcap, m))?;
+        Self::new(Box::new(UdpReader::open(pcap)?), pcap, meta, port)
+    }
+
+    /// A batcher of any datagram stream (`label` names it in messages), with the rules of
+    /// [`Self::open`].
+    pub fn new(
+        reader: Box<dyn Datagrams>,
+        label: &Path,
+        meta: &OusterMetadata,
+        port: Option<u16>,
+    ) -> Result<Self, IoError> {
+        let format = PacketFormat::new(meta).map_err(|m| IoError::format(label, m))?;
         Ok(Self {
-            path: pcap.to_path_buf(),
-            reader: UdpReader::open(pcap)?,
+            path: label.to_path_buf(),
+            reader,
             format,
             window: meta.column_window,
             port,

@@ -6,19 +6,25 @@
 
 mod batcher;
 mod checks;
+mod datagrams;
 mod destagger;
 mod ipv4;
 mod json;
+mod live;
 mod metadata;
 mod packet;
 mod pcap;
 mod source;
+mod udp_source;
 mod xyz;
 
 pub use batcher::{BatchedFrame, Batcher, Skipped};
+pub use datagrams::Datagrams;
 pub use destagger::{Destaggerer, Return};
+pub use live::{stop_live_sources, LiveUdp};
 pub use metadata::{OusterMetadata, UdpProfile};
 pub use packet::{PacketFormat, RawFrame, UnsupportedProfile};
 pub use pcap::{Datagram, UdpReader};
 pub use source::{is_pcap, metadata_path, OusterSource, OusterSourceConfig, PartialFrames};
+pub use udp_source::OusterUdpConfig;
 pub use xyz::XyzLut;

@@ -119,6 +119,12 @@ pub struct OusterSource {
     which: Return,
     /// The frame read ahead (to know whether the current one is the last).
     ahead: Option<Result<BatchedFrame, IoError>>,
+    /// Whether frames are read ahead (a capture; a live stream hands each frame on at once).
+    lookahead: bool,
+    /// Lidar packets missing from the frames read (columns of the window never received).
+    packets_lost: u64,
+    /// Extra counters of the stream (live: IMU packets).
+    imu_packets: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
     /// Frames read from the capture so far (before selection).
     read: usize,
     /// Frames that passed the partial-frame rule so far (the index `start`/`stride` count).
@@ -139,25 +145,7 @@ impl OusterSource {
         let meta_arg = (!config.meta.is_empty()).then(|| ctx.resolve_path(&config.meta));
         let meta_path = metadata_path(&pcap, meta_arg.as_deref())?;
         let meta = OusterMetadata::read(&meta_path)?;
-        let which = match config.return_number {
-            1 => Return::Strongest,
-            2 if meta.udp_profile_lidar.returns() == 2 => Return::Second,
-            2 => {
-                return Err(IoError::format(
-                    &meta_path,
-                    format!(
-                        "`source.return_number` = 2 but profile {} has one return",
-                        meta.udp_profile_lidar.name()
-                    ),
-                ))
-            }
-            n => {
-                return Err(IoError::format(
-                    Path::new("source.return_number"),
-                    format!("{n}: expected 1 (strongest) or 2 (second strongest)"),
-                ))
-            }
-        };
+        let which = return_of(config.return_number, &meta, &meta_path)?;
         let selection = FrameSelection::new(config.start, config.stride, config.max_frames)
             .map_err(|m| IoError::format(Path::new("source.stride"), m))?;
         let port = match config.udp_port {
@@ -179,10 +167,44 @@ impl OusterSource {
             partial: config.partial_frames,
             which,
             ahead,
+            lookahead: true,
+            packets_lost: 0,
+            imu_packets: None,
             read: 0,
             kept: 0,
             failed: false,
         })
+    }
+
+    /// A live stream's source: frames as they complete (no read-ahead), an incomplete first
+    /// frame skipped (the stream started mid-turn), later incomplete ones kept with their
+    /// missing columns invalid.
+    pub(crate) fn live(
+        label: PathBuf,
+        meta_path: PathBuf,
+        meta: OusterMetadata,
+        batcher: Batcher,
+        which: Return,
+        selection: FrameSelection,
+        imu_packets: std::sync::Arc<std::sync::atomic::AtomicU64>,
+    ) -> Self {
+        Self {
+            destagger: Destaggerer::new(&meta),
+            pcap: label,
+            meta_path,
+            meta,
+            batcher,
+            selection,
+            partial: PartialFrames::SkipEnds,
+            which,
+            ahead: None,
+            lookahead: false,
+            packets_lost: 0,
+            imu_packets: Some(imu_packets),
+            read: 0,
+            kept: 0,
+            failed: false,
+        }
     }
 
     /// The sensor metadata.
@@ -193,7 +215,15 @@ impl OusterSource {
     /// The next frame that passes the partial-frame rule, with its capture index.
     fn next_kept(&mut self) -> Option<Result<BatchedFrame, IoError>> {
         loop {
-            let current = self.ahead.take()?;
+            let current = if self.lookahead {
+                self.ahead.take()?
+            } else {
+                match self.batcher.next_frame() {
+                    Some(f) => f,
+                    None if self.read == 0 => return Some(Err(self.batcher.no_frames_error())),
+                    None => return None,
+                }
+            };
             let batched = match current {
                 Ok(b) => b,
                 Err(e) => return Some(Err(e)),
@@ -201,9 +231,12 @@ impl OusterSource {
             if let Err(msg) = check_frame(&batched.frame, &self.meta) {
                 return Some(Err(IoError::format(&self.pcap, msg)));
             }
-            self.ahead = self.batcher.next_frame();
-            let (first, last) = (self.read == 0, self.ahead.is_none());
+            if self.lookahead {
+                self.ahead = self.batcher.next_frame();
+            }
+            let (first, last) = (self.read == 0, self.lookahead && self.ahead.is_none());
             self.read += 1;
+
             let skip = !batched.complete
                 && match self.partial {
                     PartialFrames::Keep => false,
@@ -211,10 +244,62 @@ impl OusterSource {
                     PartialFrames::SkipEnds => first || last,
                 };
             if !skip {
+                // Only frames handed on count: a skipped end frame was cut by the start or
+                // end of the capture, not by lost packets.
+                let lost = lost_packets(&batched.frame, &self.meta);
+                if lost > 0 {
+                    self.packets_lost += lost;
+                    tracing::debug!(
+                        "{}: frame id {}: {lost} packets lost ({} so far)",
+                        self.pcap.display(),
+                        batched.frame.frame_id,
+                        self.packets_lost
+                    );
+                }
                 return Some(Ok(batched));
             }
         }
     }
+}
+
+/// The return a config's `return_number` asks for, checked against the profile.
+pub(crate) fn return_of(
+    number: u8,
+    meta: &OusterMetadata,
+    meta_path: &Path,
+) -> Result<Return, IoError> {
+    match number {
+        1 => Ok(Return::Strongest),
+        2 if meta.udp_profile_lidar.returns() == 2 => Ok(Return::Second),
+        2 => Err(IoError::format(
+            meta_path,
+            format!(
+                "`source.return_number` = 2 but profile {} has one return",
+                meta.udp_profile_lidar.name()
+            ),
+        )),
+        n => Err(IoError::format(
+            Path::new("source.return_number"),
+            format!("{n}: expected 1 (strongest) or 2 (second strongest)"),
+        )),
+    }
+}
+
+/// Lidar packets a frame misses: columns of the column window never received, in packets.
+fn lost_packets(frame: &super::packet::RawFrame, meta: &OusterMetadata) -> u64 {
+    let (first, last) = meta.column_window;
+    let cols = frame.column_valid.len();
+    let in_window = |c: usize| {
+        if first <= last {
+            (first..=last).contains(&c)
+        } else {
+            c >= first || c <= last
+        }
+    };
+    let missing = (0..cols)
+        .filter(|&c| in_window(c) && !frame.column_valid[c])
+        .count();
+    missing.div_ceil(meta.columns_per_packet.max(1)) as u64
 }
 
 impl ImageSource for OusterSource {
@@ -256,6 +341,9 @@ impl ImageSource for OusterSource {
             ),
             ("metadata".into(), self.meta_path.display().to_string()),
         ];
+        if self.packets_lost > 0 {
+            d.push(("packets lost".into(), self.packets_lost.to_string()));
+        }
         let s = self.batcher.skipped();
         if s.other_port + s.other_size + s.other_sensor > 0 {
             d.push((
@@ -267,6 +355,23 @@ impl ImageSource for OusterSource {
             ));
         }
         d
+    }
+
+    fn counters(&self) -> Vec<(String, u64)> {
+        let s = self.batcher.skipped();
+        let mut c = vec![
+            ("packets_lost".to_string(), self.packets_lost),
+            ("datagrams_other_size".to_string(), s.other_size as u64),
+            ("datagrams_other_sensor".to_string(), s.other_sensor as u64),
+            ("datagrams_other_port".to_string(), s.other_port as u64),
+        ];
+        if let Some(imu) = &self.imu_packets {
+            c.push((
+                "imu_packets".to_string(),
+                imu.load(std::sync::atomic::Ordering::Relaxed),
+            ));
+        }
+        c
     }
 
     fn next_frame(&mut self) -> Option<Result<LidarFrame, CoreError>> {

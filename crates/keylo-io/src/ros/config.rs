@@ -9,8 +9,8 @@ use crate::cloud::ProjectionConfig;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct BagSourceConfig {
-    /// The recording: a `.bag` file (`ros1-bag`), or an `.mcap` file or a ROS2 bag folder
-    /// holding one (`mcap`); relative to the config file.
+    /// The recording: a `.bag` file (`ros1-bag`), or an `.mcap` file, a ROS2 sqlite3 `.db3` file
+    /// or a ROS2 bag folder holding one of them (`mcap`); relative to the config file.
     pub path: String,
     /// The sensor_msgs/PointCloud2 topic to read; empty = the file's only PointCloud2 topic.
     pub topic: String,

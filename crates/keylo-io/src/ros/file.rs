@@ -1,5 +1,5 @@
-//! What ROS1 bags and mcap files have in common for keylo: channels (topic, type, encoding,
-//! message count) and a stream of stored messages in log-time order.
+//! What ROS1 bags, mcap files and sqlite3 bags have in common for keylo: channels (topic, type,
+//! encoding, message count) and a stream of stored messages in log-time order.
 
 use std::path::{Path, PathBuf};
 
@@ -14,19 +14,31 @@ pub enum BagFormat {
     Ros1Bag,
     /// MCAP (ROS2 bags since Iron; also written by Foxglove tools).
     Mcap,
+    /// ROS2 bag in sqlite3 storage (`.db3`; ROS2 bags up to Humble).
+    Ros2Sqlite3,
 }
 
 impl BagFormat {
     /// The source kind reading this format.
+    /// ROS2 bags of either storage are read by kind `mcap`.
     pub fn kind(self) -> &'static str {
         match self {
             Self::Ros1Bag => "ros1-bag",
-            Self::Mcap => "mcap",
+            Self::Mcap | Self::Ros2Sqlite3 => "mcap",
+        }
+    }
+
+    /// The format's name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Ros1Bag => "ROS1 bag",
+            Self::Mcap => "MCAP",
+            Self::Ros2Sqlite3 => "ROS2 sqlite3 bag",
         }
     }
 }
 
-/// A ROS1 connection or an mcap channel.
+/// A ROS1 connection, an mcap channel or a sqlite3 bag's topic.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct ChannelInfo {
     /// Connection or channel id.
@@ -76,15 +88,15 @@ pub(crate) trait MessageFile: Send {
     fn next_message(&mut self) -> Option<Result<StoredMessage, IoError>>;
 }
 
-/// The file of `path` with its format: a `.bag`/`.mcap` file (told apart by magic bytes), or a
-/// ROS2 bag folder holding one `.mcap` file.
+/// The file of `path` with its format: a `.bag`/`.mcap`/`.db3` file (told apart by magic
+/// bytes), or a ROS2 bag folder holding one `.mcap` or `.db3` file.
 pub(crate) fn resolve(path: &Path) -> Result<(PathBuf, BagFormat), IoError> {
     let file = if path.is_dir() {
-        ros2_folder_file(path)?
+        super::ros2_folder::storage_file(path)?
     } else {
         path.to_path_buf()
     };
-    let mut head = [0u8; 13];
+    let mut head = [0u8; 16];
     let n = read_prefix(&file, &mut head)?;
     if head[..n].starts_with(b"#ROSBAG V2.0\n") {
         Ok((file, BagFormat::Ros1Bag))
@@ -95,15 +107,13 @@ pub(crate) fn resolve(path: &Path) -> Result<(PathBuf, BagFormat), IoError> {
             &file,
             "ROS1 bag of an old version: only bag format 2.0 is read (`rosbag fix` upgrades it)",
         ))
-    } else if head[..n].starts_with(b"SQLite format 3") {
-        Err(IoError::format(
-            &file,
-            "a ROS2 sqlite3 (.db3) bag: convert it to mcap (`ros2 bag convert`) to read it",
-        ))
+    } else if head[..n].starts_with(b"SQLite format 3\0") {
+        Ok((file, BagFormat::Ros2Sqlite3))
     } else {
         Err(IoError::format(
             &file,
-            "neither a ROS1 bag (#ROSBAG V2.0) nor an MCAP file (magic \\x89MCAP0)",
+            "neither a ROS1 bag (#ROSBAG V2.0), an MCAP file (magic \\x89MCAP0) nor a ROS2 \
+             sqlite3 bag (magic `SQLite format 3`)",
         ))
     }
 }
@@ -119,45 +129,6 @@ fn read_prefix(path: &Path, buf: &mut [u8]) -> Result<usize, IoError> {
         }
     }
     Ok(n)
-}
-
-/// The `.mcap` file of a ROS2 bag folder (`metadata.yaml` + one `.mcap`).
-fn ros2_folder_file(dir: &Path) -> Result<PathBuf, IoError> {
-    let entries = std::fs::read_dir(dir).map_err(|e| IoError::io(dir, e))?;
-    let paths: Vec<PathBuf> = entries.filter_map(Result::ok).map(|e| e.path()).collect();
-    let with_ext = |ext: &str| -> Vec<&PathBuf> {
-        paths
-            .iter()
-            .filter(|p| p.extension().is_some_and(|x| x == ext))
-            .collect()
-    };
-    match with_ext("mcap").as_slice() {
-        [one] => Ok((*one).clone()),
-        [] if !with_ext("db3").is_empty() => Err(IoError::format(
-            dir,
-            "a ROS2 sqlite3 (.db3) bag: convert it to mcap (`ros2 bag convert`) to read it",
-        )),
-        [] => Err(IoError::format(dir, "the folder holds no .mcap file")),
-        many => Err(IoError::format(
-            dir,
-            format!(
-                "the folder holds {} .mcap files (a split bag); give one file as the path",
-                many.len()
-            ),
-        )),
-    }
-}
-
-/// True for a ROS2 bag folder: `metadata.yaml` and exactly one `.mcap` file.
-pub(crate) fn is_ros2_mcap_folder(dir: &Path) -> bool {
-    dir.join("metadata.yaml").is_file()
-        && std::fs::read_dir(dir).is_ok_and(|entries| {
-            entries
-                .filter_map(Result::ok)
-                .filter(|e| e.path().extension().is_some_and(|x| x == "mcap"))
-                .count()
-                == 1
-        })
 }
 
 #[cfg(test)]
@@ -185,30 +156,33 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("old version"));
-        let db3 = write("d.db3", b"SQLite format 3\0");
-        assert!(resolve(&db3).unwrap_err().to_string().contains("db3"));
+        let db3 = write("d", b"SQLite format 3\0rest");
+        assert_eq!(resolve(&db3).unwrap().1, BagFormat::Ros2Sqlite3);
         let junk = write("e.bag", b"hi");
         assert!(resolve(&junk).unwrap_err().to_string().contains("neither"));
     }
 
     #[test]
-    fn ros2_folders() {
+    fn ros2_folders_resolve_to_their_storage_file() {
         let dir = tempfile::tempdir().unwrap();
-        assert!(!is_ros2_mcap_folder(dir.path()));
         std::fs::write(dir.path().join("metadata.yaml"), "x").unwrap();
         assert!(resolve(dir.path())
             .unwrap_err()
             .to_string()
-            .contains("no .mcap"));
+            .contains("no .mcap or .db3"));
+        std::fs::write(dir.path().join("a_0.db3"), b"SQLite format 3\0").unwrap();
+        let (file, format) = resolve(dir.path()).unwrap();
+        assert_eq!(
+            (file.file_name().unwrap(), format),
+            ("a_0.db3".as_ref(), BagFormat::Ros2Sqlite3)
+        );
         std::fs::write(dir.path().join("a_0.mcap"), b"\x89MCAP0\r\n").unwrap();
-        assert!(is_ros2_mcap_folder(dir.path()));
         let (file, format) = resolve(dir.path()).unwrap();
         assert_eq!(
             (file.file_name().unwrap(), format),
             ("a_0.mcap".as_ref(), BagFormat::Mcap)
         );
         std::fs::write(dir.path().join("a_1.mcap"), b"").unwrap();
-        assert!(!is_ros2_mcap_folder(dir.path()));
         assert!(resolve(dir.path())
             .unwrap_err()
             .to_string()

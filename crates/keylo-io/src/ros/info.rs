@@ -14,9 +14,9 @@ use crate::IoError;
 /// A recording's contents.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BagInfo {
-    /// The file read (the `.mcap` inside a ROS2 bag folder).
+    /// The file read (the `.mcap` or `.db3` inside a ROS2 bag folder).
     pub path: PathBuf,
-    /// ROS1 bag or MCAP.
+    /// ROS1 bag, MCAP or ROS2 sqlite3 bag.
     pub format: BagFormat,
     /// First and last log (record) time, nanoseconds.
     pub start_ns: Option<u64>,
@@ -85,8 +85,8 @@ pub struct FieldInfo {
     pub count: u32,
 }
 
-/// Lists what the `.bag`, `.mcap` or ROS2 bag folder at `path` holds. Reads the index (or
-/// summary) and the first message of each PointCloud2 topic.
+/// Lists what the `.bag`, `.mcap`, `.db3` or ROS2 bag folder at `path` holds. Reads the index
+/// (or summary, or the sqlite3 keys) and the first message of each PointCloud2 topic.
 pub fn bag_info(path: &Path) -> Result<BagInfo, IoError> {
     let mut file = super::open_file(path, None)?;
     let format = file.format();

@@ -1,11 +1,12 @@
-//! ROS recordings: ROS1 bags (source kind `ros1-bag`) and MCAP files or ROS2 bag folders
-//! (source kind `mcap`).
+//! ROS recordings: ROS1 bags (source kind `ros1-bag`), and MCAP files, ROS2 sqlite3 (`.db3`)
+//! files or ROS2 bag folders of either storage (source kind `mcap`).
 //!
 //! `sensor_msgs/PointCloud2` messages become frames (organised clouds pixel for pixel,
 //! unorganised ones through [`crate::cloud::Projector`]); `sensor_msgs/Image` topics may fill
 //! the frame's channels. Messages are read lazily in log-time order: only the index (or
-//! summary) is read up front, then one chunk at a time. [`bag_info`] lists what a recording
-//! holds. Topics, fields, units and time rules: `docs/formats.md`.
+//! summary; for sqlite3 bags the message keys) is read up front, then one chunk (one sqlite3
+//! message) at a time. [`bag_info`] lists what a recording holds. Topics, fields, units and
+//! time rules: `docs/formats.md`.
 
 mod bag;
 mod beams;
@@ -22,7 +23,10 @@ mod mcap_summary;
 mod merge;
 mod msgs;
 mod pointcloud2;
+mod ros2_folder;
 mod source;
+mod sqlite_file;
+mod sqlite_header;
 mod sync;
 mod topics;
 mod wire;
@@ -47,15 +51,12 @@ fn open_file(
     expected: Option<BagFormat>,
 ) -> Result<Box<dyn file::MessageFile>, IoError> {
     let (file, format) = file::resolve(path)?;
-    if let Some(want) = expected.filter(|&w| w != format) {
+    if let Some(want) = expected.filter(|&w| w.kind() != format.kind()) {
         return Err(IoError::format(
             &file,
             format!(
                 "this is a {} file, read by source kind `{}`, not `{}`",
-                match format {
-                    BagFormat::Ros1Bag => "ROS1 bag",
-                    BagFormat::Mcap => "MCAP",
-                },
+                format.name(),
                 format.kind(),
                 want.kind()
             ),
@@ -64,6 +65,7 @@ fn open_file(
     Ok(match format {
         BagFormat::Ros1Bag => Box::new(bag::BagFile::open(&file)?),
         BagFormat::Mcap => Box::new(mcap_file::McapFile::open(&file)?),
+        BagFormat::Ros2Sqlite3 => Box::new(sqlite_file::SqliteFile::open(&file)?),
     })
 }
 
@@ -72,12 +74,12 @@ pub fn is_ros1_bag(path: &Path) -> bool {
     path.is_file() && path.extension().is_some_and(|x| x == "bag")
 }
 
-/// `--data` probe of kind `mcap`: an `.mcap` file, or a ROS2 bag folder (`metadata.yaml` and
-/// one `.mcap` file).
+/// `--data` probe of kind `mcap`: an `.mcap` or `.db3` file, or a ROS2 bag folder
+/// (`metadata.yaml` and one `.mcap` or `.db3` file).
 pub fn is_mcap(path: &Path) -> bool {
     if path.is_dir() {
-        file::is_ros2_mcap_folder(path)
+        ros2_folder::is_bag_folder(path)
     } else {
-        path.is_file() && path.extension().is_some_and(|x| x == "mcap")
+        path.is_file() && path.extension().is_some_and(|x| x == "mcap" || x == "db3")
     }
 }

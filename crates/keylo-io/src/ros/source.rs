@@ -1,15 +1,13 @@
 //! Source kinds `ros1-bag` and `mcap`: the clouds of one PointCloud2 topic as frames, with
 //! image topics filling channels.
 
+use keylo_core::{BuildContext, Channel, CoreError, ImageSource, LidarFrame, SourceInfo};
 use std::path::Path;
-use keylo_core::{
-    BuildContext, Channel, CoreError, ImageSource, LidarFrame, SourceInfo,
-};
 
 use super::beams;
-use super::framer::CloudFramer;
 use super::config::BagSourceConfig;
 use super::file::{BagFormat, MessageFile, StoredMessage};
+use super::framer::CloudFramer;
 use super::image::{pixels, restagger};
 use super::msgs::{decode_header, decode_string, Image, PointCloud2};
 use super::pointcloud2::to_raw_cloud;
@@ -21,9 +19,10 @@ use crate::ouster::OusterMetadata;
 use crate::select::FrameSelection;
 use crate::IoError;
 
-/// Reads the frames of a ROS1 bag or an MCAP file, one cloud message at a time.
+/// Reads the frames of a ROS1 bag, an MCAP file or a ROS2 sqlite3 bag, one cloud message at a
+/// time.
 pub struct BagSource {
-    /// The file read (the `.mcap` inside a ROS2 bag folder).
+    /// The file read (the `.mcap` or `.db3` inside a ROS2 bag folder).
     path: std::path::PathBuf,
     file: Box<dyn MessageFile>,
     description: String,

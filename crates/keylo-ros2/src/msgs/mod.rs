@@ -8,8 +8,8 @@ mod sensor;
 mod std_msgs;
 
 pub use geometry::{
-    Point, Pose, PoseStamped, PoseWithCovariance, PoseWithCovarianceStamped, Quaternion,
-    Transform, TransformStamped, Twist, TwistWithCovariance, Vector3,
+    Point, Pose, PoseStamped, PoseWithCovariance, PoseWithCovarianceStamped, Quaternion, Transform,
+    TransformStamped, Twist, TwistWithCovariance, Vector3,
 };
 pub use nav::{Odometry, Path, TfMessage};
 pub use sensor::{Image, PointCloud2, PointField};

@@ -1,0 +1,131 @@
+"""Latency of `keylo ros2`: from a cloud written by a Cyclone DDS peer to its odometry received
+by the same peer, beside the node's own registration time for that frame (its frames.csv), so
+the overhead of DDS, decoding and publishing is `latency − registration`. Then a stream at
+10 Hz: clouds answered and dropped, and the node's CPU % beside `keylo run --realtime` on the
+same frames. Run inside a private network namespace (scripts/bench/ros2_latency.sh does).
+
+  python ros2_latency.py --keylo target/release/keylo --work DIR --name NAME --bins FOLDER
+         [--count N] [--stream-count N] [--hz 10]
+"""
+
+import argparse
+import json
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent / "ros2"))
+
+from interop import Peer, kitti_bins, to_dds  # noqa: E402
+
+
+def start_node(args, out, reliability):
+    log = open(out / "node.log", "w")
+    return subprocess.Popen(
+        [args.keylo, "ros2", "--out", str(out / "keylo-ros2"),
+         "--set", f"ros2.input_reliability={reliability}", "--set", f"ros2.domain_id={args.domain}",
+         "--set", "ros2.path_topic=\"\""], stdout=log, stderr=log)
+
+
+def stop(node):
+    node.send_signal(signal.SIGINT)
+    return node.wait(timeout=60)
+
+
+def frames_csv(path):
+    rows = Path(path).read_text().splitlines()
+    head = rows[0].split(",")
+    return [dict(zip(head, r.split(","))) for r in rows[1:]]
+
+
+def latency(args, clouds, out):
+    """One cloud at a time: write, wait for its answer."""
+    out.mkdir(parents=True, exist_ok=True)
+    node = start_node(args, out, "reliable")
+    peer = Peer(args.domain)
+    peer.wait_matched()
+    lat = []
+    try:
+        for k in range(args.count):
+            c = dict(clouds[k % len(clouds)], stamp_ns=clouds[0]["stamp_ns"] + k * 100_000_000)
+            msg = to_dds(c)
+            t0 = time.perf_counter()
+            peer.points.write(msg)
+            got, t1 = peer.answer(60.0)
+            if got is None:
+                sys.exit(f"cloud {k} not answered")
+            lat.append(time.perf_counter() - t0)
+            time.sleep(0.05)
+    finally:
+        stop(node)
+    reg = np.array([float(r["odometry_ms"]) for r in frames_csv(out / "keylo-ros2/frames.csv")])
+    lat = np.array(lat) * 1e3
+    over = lat - reg[: len(lat)]
+    # The first frames set up the map; the steady state is what a robot sees.
+    skip = min(2, len(lat) - 1)
+    return dict(points=clouds[0]["width"] * clouds[0]["height"],
+                latency_ms_median=float(np.median(lat[skip:])),
+                latency_ms_p99=float(np.percentile(lat[skip:], 99)),
+                registration_ms_median=float(np.median(reg[skip:len(lat)])),
+                overhead_ms_median=float(np.median(over[skip:])),
+                overhead_ms_p99=float(np.percentile(over[skip:], 99)), frames=len(lat))
+
+
+def stream(args, clouds, out, bins):
+    """Clouds at `hz` (best effort, as a driver publishes), counted on both sides."""
+    out.mkdir(parents=True, exist_ok=True)
+    node = start_node(args, out, "best-effort")
+    peer = Peer(args.domain)
+    peer.wait_matched()
+    answers = 0
+    t_start = time.perf_counter()
+    try:
+        for k in range(args.stream_count):
+            due = t_start + k / args.hz
+            while time.perf_counter() < due:
+                answers += len(peer.odom.take(N=100))
+                time.sleep(0.001)
+            c = dict(clouds[k % len(clouds)], stamp_ns=clouds[0]["stamp_ns"] + k * int(1e9 / args.hz))
+            peer.points.write(to_dds(c))
+        t_end = time.perf_counter() + 5.0
+        while time.perf_counter() < t_end and answers < args.stream_count:
+            answers += len(peer.odom.take(N=100))
+            time.sleep(0.01)
+    finally:
+        stop(node)
+    summary = json.loads((out / "keylo-ros2/summary.json").read_text())
+    rt = subprocess.run([args.keylo, "-q", "run", "--data", str(bins), "--realtime",
+                         "--set", f"source.max_frames={args.stream_count}",
+                         "--out", str(out / "keylo-run-realtime")], capture_output=True, text=True)
+    rt_summary = json.loads((out / "keylo-run-realtime/summary.json").read_text()) if rt.returncode == 0 else {}
+    return dict(sent=args.stream_count, answered=answers, **summary["ros2"],
+                node_cpu_percent=summary.get("cpu_percent"), node_peak_rss_mb=summary.get("peak_rss_mb"),
+                run_realtime_cpu_percent=rt_summary.get("cpu_percent"),
+                run_realtime_peak_rss_mb=rt_summary.get("peak_rss_mb"))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--keylo", required=True)
+    ap.add_argument("--work", required=True, type=Path)
+    ap.add_argument("--name", required=True)
+    ap.add_argument("--bins", required=True, type=Path, help="folder of KITTI-style .bin scans")
+    ap.add_argument("--count", type=int, default=30)
+    ap.add_argument("--stream-count", type=int, default=0)
+    ap.add_argument("--hz", type=float, default=10.0)
+    ap.add_argument("--domain", type=int, default=19)
+    args = ap.parse_args()
+    clouds = kitti_bins(args.bins, 10_000, 1_700_000_000_000_000_000)
+    result = dict(name=args.name, latency=latency(args, clouds, args.work / f"{args.name}-latency"))
+    if args.stream_count:
+        result["stream"] = stream(args, clouds, args.work / f"{args.name}-stream", args.bins)
+    print(json.dumps(result, indent=1), flush=True)
+
+
+if __name__ == "__main__":
+    main()
