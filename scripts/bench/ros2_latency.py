@@ -1,6 +1,7 @@
 """Latency of `keylo ros2`: from a cloud written by a Cyclone DDS peer to its odometry received
-by the same peer, beside the node's own registration time for that frame (its frames.csv), so
-the overhead of DDS, decoding and publishing is `latency − registration`. Then a stream at
+by the same peer, split into the peer's own `write()` (Cyclone's Python serialiser), the time
+the node held the cloud (its ros2_frames.csv: taken from DDS → odometry published), of which
+registration (keylo's stages), and the rest (DDS transport both ways, the peer's reading). Then a stream at
 10 Hz: clouds answered and dropped, and the node's CPU % beside `keylo run --realtime` on the
 same frames. Run inside a private network namespace (scripts/bench/ros2_latency.sh does).
 
@@ -27,7 +28,7 @@ from interop import Peer, kitti_bins, to_dds  # noqa: E402
 def start_node(args, out, reliability):
     log = open(out / "node.log", "w")
     return subprocess.Popen(
-        [args.keylo, "ros2", "--out", str(out / "keylo-ros2"),
+        [args.keylo, "-vv", "ros2", "--out", str(out / "keylo-ros2"),
          "--set", f"ros2.input_reliability={reliability}", "--set", f"ros2.domain_id={args.domain}",
          "--set", "ros2.path_topic=\"\""], stdout=log, stderr=log)
 
@@ -49,13 +50,14 @@ def latency(args, clouds, out):
     node = start_node(args, out, "reliable")
     peer = Peer(args.domain)
     peer.wait_matched()
-    lat = []
+    lat, writes = [], []
     try:
         for k in range(args.count):
             c = dict(clouds[k % len(clouds)], stamp_ns=clouds[0]["stamp_ns"] + k * 100_000_000)
             msg = to_dds(c)
             t0 = time.perf_counter()
             peer.points.write(msg)
+            writes.append(time.perf_counter() - t0)
             got, t1 = peer.answer(60.0)
             if got is None:
                 sys.exit(f"cloud {k} not answered")
@@ -63,17 +65,21 @@ def latency(args, clouds, out):
             time.sleep(0.05)
     finally:
         stop(node)
-    reg = np.array([float(r["odometry_ms"]) for r in frames_csv(out / "keylo-ros2/frames.csv")])
-    lat = np.array(lat) * 1e3
-    over = lat - reg[: len(lat)]
+    rows = frames_csv(out / "keylo-ros2/ros2_frames.csv")
+    reg = np.array([float(r["odometry_ms"]) for r in rows])[: len(lat)]
+    node = np.array([float(r["in_node_ms"]) for r in rows])[: len(lat)]
+    lat, writes = np.array(lat) * 1e3, np.array(writes) * 1e3
     # The first frames set up the map; the steady state is what a robot sees.
     skip = min(2, len(lat) - 1)
-    return dict(points=clouds[0]["width"] * clouds[0]["height"],
-                latency_ms_median=float(np.median(lat[skip:])),
-                latency_ms_p99=float(np.percentile(lat[skip:], 99)),
-                registration_ms_median=float(np.median(reg[skip:len(lat)])),
-                overhead_ms_median=float(np.median(over[skip:])),
-                overhead_ms_p99=float(np.percentile(over[skip:], 99)), frames=len(lat))
+    med = lambda a: round(float(np.median(a[skip:])), 2)
+    p99 = lambda a: round(float(np.percentile(a[skip:], 99)), 2)
+    return dict(points=clouds[0]["width"] * clouds[0]["height"], frames=len(lat) - skip,
+                latency_ms_median=med(lat), latency_ms_p99=p99(lat),
+                peer_write_ms_median=med(writes),
+                registration_ms_median=med(reg), registration_ms_p99=p99(reg),
+                node_ms_median=med(node), node_ms_p99=p99(node),
+                node_overhead_ms_median=med(node - reg), node_overhead_ms_p99=p99(node - reg),
+                transport_ms_median=med(lat - writes - node), transport_ms_p99=p99(lat - writes - node))
 
 
 def stream(args, clouds, out, bins):

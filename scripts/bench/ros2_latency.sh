@@ -23,4 +23,4 @@ run() { bash scripts/ros2/netns.sh "$VENV/bin/python" scripts/bench/ros2_latency
 if [ -n "$KITTI" ]; then
     run --name kitti --bins "$KITTI" --count 10 | tee "$OUT/kitti.json"
 fi
-run --name lab --bins "$OUT/lab" --count 50 --stream-count 1000 | tee "$OUT/lab.json"
+run --name lab --bins "$OUT/lab" --count 50 --stream-count "${STREAM:-1000}" | tee "$OUT/lab.json"

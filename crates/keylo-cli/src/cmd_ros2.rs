@@ -1,6 +1,7 @@
 //! `keylo ros2`: the pipeline of a config as a ROS 2 node (crate keylo-ros2), until Ctrl-C,
 //! SIGTERM or `--idle-timeout`; with `--out`, the files `keylo run` writes.
 
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -52,6 +53,19 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         }
         None => None,
     };
+    // Per frame: the odometry message's stamp and how long the node held the cloud.
+    let mut latency = match &args.out {
+        Some(dir) => {
+            let path = dir.join("ros2_frames.csv");
+            let mut f = std::io::BufWriter::new(
+                std::fs::File::create(&path)
+                    .with_context(|| format!("creating {}", path.display()))?,
+            );
+            writeln!(f, "frame,stamp_ns,odometry_ms,in_node_ms")?;
+            Some(f)
+        }
+        None => None,
+    };
     // A live sensor named by the config's [source] feeds the node instead of the points topic.
     let source = match config.source.kind.as_str() {
         "ouster-udp" => Some(keylo::build_source(&config, &registry)?),
@@ -74,6 +88,21 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         totals.add(p.result);
         totals.odometry_seconds += p.seconds;
         trajectory.push(p.result.stamp, p.result.pose);
+        if let (Some(f), None) = (latency.as_mut(), &write_error) {
+            let line = writeln!(
+                f,
+                "{},{},{:.3},{:.3}",
+                p.result.index,
+                p.stamp_ns,
+                1e3 * p.seconds,
+                1e3 * p.in_node_seconds
+            )
+            .and_then(|()| f.flush());
+            if let Err(e) = line {
+                tracing::error!("writing ros2_frames.csv failed: {e}; the node goes on");
+                write_error = Some(e.into());
+            }
+        }
         if let (Some(j), None) = (journal.as_mut(), &write_error) {
             let row = report::FrameRow {
                 frame: p.result.index,

@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc;
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
 use ros2_client::qos::{Durability, History, Reliability, WhenFull};
@@ -47,7 +47,8 @@ pub struct Writers {
 /// event loop stops.
 pub struct Dds {
     pub writers: Writers,
-    pub inbox: Arc<Inbox<msgs::PointCloud2>>,
+    /// Clouds with the instant the reader took them from DDS.
+    pub inbox: Arc<Inbox<(Instant, msgs::PointCloud2)>>,
     pub commands: mpsc::Receiver<Command>,
     /// Input messages that could not be decoded as their type (counted, logged).
     pub undecodable: Arc<AtomicU64>,
@@ -265,7 +266,7 @@ const PRIOR: Token = Token(3);
 impl Readers {
     fn run(
         mut self,
-        inbox: &Inbox<msgs::PointCloud2>,
+        inbox: &Inbox<(Instant, msgs::PointCloud2)>,
         commands: &mpsc::Sender<Command>,
         stop: &AtomicBool,
         undecodable: &AtomicU64,
@@ -304,7 +305,7 @@ impl Readers {
             // Edge-triggered: drain every reader whenever anything arrived (cheap when empty).
             let (points, topic) = &self.points;
             drain(points, topic, undecodable, |m| {
-                if inbox.push(m) {
+                if inbox.push((Instant::now(), m)) {
                     tracing::debug!("{topic}: registration is behind; dropped the oldest cloud");
                 }
             });

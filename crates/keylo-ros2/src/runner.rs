@@ -47,6 +47,9 @@ pub struct Published<'a> {
     pub stamp_ns: i64,
     /// Time spent in keylo's stages on this frame, seconds.
     pub seconds: f64,
+    /// From the cloud taken from DDS (or the frame from the source) to its odometry published,
+    /// seconds: waiting, decoding, the stages and publishing.
+    pub in_node_seconds: f64,
 }
 
 /// The ROS 2 node: DDS in and out around an [`Odometry`].
@@ -129,14 +132,14 @@ impl Ros2Node {
             while let Ok(c) = self.dds.commands.try_recv() {
                 self.command(odometry, c);
             }
-            let Some(msg) = self.dds.inbox.pop(Duration::from_millis(50)) else {
+            let Some((taken, msg)) = self.dds.inbox.pop(Duration::from_millis(50)) else {
                 if idle.is_some_and(|d| last_input.elapsed() >= d) {
                     break;
                 }
                 continue;
             };
             last_input = Instant::now();
-            self.cloud(odometry, &msg, &mut on_frame);
+            self.cloud(odometry, &msg, taken, &mut on_frame);
         }
         self.stats()
     }
@@ -221,6 +224,7 @@ impl Ros2Node {
         &mut self,
         odometry: &mut Odometry,
         msg: &msgs::PointCloud2,
+        taken: Instant,
         on_frame: &mut impl FnMut(&Published),
     ) {
         if let Some(f) = &self.cloud_frame {
@@ -232,6 +236,7 @@ impl Ros2Node {
                 return self.refuse(msg, &what);
             }
         }
+        let started = Instant::now();
         let cloud = match CloudFramer::cloud(&msg.view()) {
             Ok(c) => c,
             Err(e) => return self.refuse(msg, &e.to_string()),
@@ -245,12 +250,20 @@ impl Ros2Node {
             let what = format!("none of its {} points is finite", cloud.points.len());
             return self.refuse(msg, &what);
         }
+        let decoded = started.elapsed().as_secs_f64();
         let frame = match self.framer.frame(&cloud, self.next_index) {
             Ok(f) => f,
             Err(e) => return self.refuse(msg, &e),
         };
+        tracing::debug!(
+            "ros2: cloud {}: waited {:.2} ms, decoded in {:.2} ms, framed in {:.2} ms",
+            self.next_index,
+            1e3 * (started - taken).as_secs_f64(),
+            1e3 * decoded,
+            1e3 * (started.elapsed().as_secs_f64() - decoded)
+        );
         let header = (msg.header.stamp.to_ns(), msg.header.frame_id.as_str());
-        if let Err(e) = self.register(odometry, &frame, header, on_frame) {
+        if let Err(e) = self.register(odometry, &frame, header, taken, on_frame) {
             self.refuse(msg, &e);
         }
     }
@@ -262,6 +275,7 @@ impl Ros2Node {
         odometry: &mut Odometry,
         frame: &LidarFrame,
         (stamp_ns, frame_id): (i64, &str),
+        taken: Instant,
         on_frame: &mut impl FnMut(&Published),
     ) -> Result<(), String> {
         self.apply_prior(odometry, frame);
@@ -273,6 +287,7 @@ impl Ros2Node {
         self.next_index += 1;
         // The end of the scan on the cloud's own clock: its stamp plus the latest point time.
         let end_ns = stamp_ns + ((result.stamp - frame.timestamp) * 1e9).round() as i64;
+        let published = Instant::now();
         self.publish(
             odometry,
             &result,
@@ -281,11 +296,18 @@ impl Ros2Node {
             frame_id,
             end_ns,
         );
+        tracing::debug!(
+            "ros2: frame {}: stages {:.2} ms, publishing {:.2} ms",
+            result.index,
+            1e3 * seconds,
+            1e3 * published.elapsed().as_secs_f64()
+        );
         self.stats.frames += 1;
         on_frame(&Published {
             result: &result,
             stamp_ns: end_ns,
             seconds,
+            in_node_seconds: taken.elapsed().as_secs_f64(),
         });
         Ok(())
     }

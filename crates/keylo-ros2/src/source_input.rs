@@ -2,7 +2,7 @@
 //! topic: odometry straight from the sensor's packets, no driver in between.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use keylo_core::{ImageSource, Odometry};
 
@@ -29,7 +29,7 @@ impl Ros2Node {
                 while let Some(next) = source.next_frame() {
                     match next {
                         Ok(f) => {
-                            frames.push(f);
+                            frames.push((Instant::now(), f));
                         }
                         Err(e) => {
                             tracing::error!("ros2: the source stopped: {e}");
@@ -44,7 +44,7 @@ impl Ros2Node {
                 while let Ok(c) = self.dds.commands.try_recv() {
                     self.command(odometry, c);
                 }
-                let Some(frame) = frames.pop(Duration::from_millis(50)) else {
+                let Some((taken, frame)) = frames.pop(Duration::from_millis(50)) else {
                     if ended.load(Ordering::SeqCst) && frames.is_empty() {
                         break;
                     }
@@ -54,9 +54,13 @@ impl Ros2Node {
                     continue;
                 };
                 let stamp_ns = (frame.timestamp * 1e9).round() as i64;
-                if let Err(e) =
-                    self.register(odometry, &frame, (stamp_ns, &sensor_frame), &mut on_frame)
-                {
+                if let Err(e) = self.register(
+                    odometry,
+                    &frame,
+                    (stamp_ns, &sensor_frame),
+                    taken,
+                    &mut on_frame,
+                ) {
                     self.stats.clouds_refused += 1;
                     tracing::warn!("source frame {}: {e}; skipped", frame.index);
                 }
