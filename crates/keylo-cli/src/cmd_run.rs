@@ -8,10 +8,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use keylo::config::{OnBadFrame, PipelineConfig};
-use keylo::{
-    CoreError, FrameFeatures, FrameResult, ImageSource, LidarFrame, Paced, Pipeline, Prefetched,
-    Trajectory,
-};
+use keylo::{CoreError, ImageSource, Paced, Pipeline, Prefetched, Trajectory};
 
 use crate::args::RunArgs;
 use crate::degeneracy_out::{self, DegeneracyRow};
@@ -217,7 +214,7 @@ fn process_all(
             .as_ref()
             .is_some_and(|p| p.wants(frame.index));
         let t = Instant::now();
-        let result = process_guarded(pipeline, &frame, pictured);
+        let result = pipeline.odometry.process_guarded(&frame, pictured);
         let seconds = t.elapsed().as_secs_f64();
         st.totals.odometry_seconds += seconds;
         progress.inc(1);
@@ -300,38 +297,6 @@ fn frame_name(pipeline: &Pipeline, index: u64) -> String {
         Some(file) => format!("frame {index} ({file})"),
         None => format!("frame {index}"),
     }
-}
-
-/// Runs one frame (keeping its features when `features`); a panic in a stage (a bug, in
-/// keylo or a plugin) becomes this frame's failure, so the frames done so far are still
-/// written and the exit status says so.
-fn process_guarded(
-    pipeline: &mut Pipeline,
-    frame: &LidarFrame,
-    features: bool,
-) -> Result<(FrameResult, Option<FrameFeatures>), CoreError> {
-    let run = std::panic::AssertUnwindSafe(|| {
-        if features {
-            let (r, f) = pipeline.odometry.process_with_features(frame)?;
-            Ok((r, Some(f)))
-        } else {
-            pipeline.odometry.process(frame).map(|r| (r, None))
-        }
-    });
-    std::panic::catch_unwind(run).unwrap_or_else(|payload| {
-        let what = payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "no message".into());
-        Err(CoreError::Stage {
-            stage: "pipeline".into(),
-            message: format!(
-                "frame {}: internal error (a stage panicked: {what}); please report it",
-                frame.index
-            ),
-        })
-    })
 }
 
 fn output_dir(args: &RunArgs, config: &PipelineConfig) -> Result<PathBuf> {

@@ -5,7 +5,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use keylo_core::{CoreError, FrameFeatures, FrameResult, LidarFrame, Odometry};
+use keylo_core::{FrameFeatures, FrameResult, LidarFrame, Odometry};
 use keylo_io::cloud::{ProjectionConfig, Projector, Sensor};
 use keylo_io::ros::CloudFramer;
 use nalgebra::Isometry3;
@@ -280,7 +280,7 @@ impl Ros2Node {
     ) -> Result<(), String> {
         self.apply_prior(odometry, frame);
         let t = Instant::now();
-        let processed = process_guarded(odometry, frame, self.want_features);
+        let processed = odometry.process_guarded(frame, self.want_features);
         let seconds = t.elapsed().as_secs_f64();
         let (result, features) = processed.map_err(|e| e.to_string())?;
         self.cloud_frame = Some(frame_id.to_string());
@@ -416,32 +416,4 @@ fn report<E: std::fmt::Debug>(r: Result<(), E>, topic: &str) {
     if let Err(e) = r {
         tracing::warn!("{topic}: publishing failed: {e:?}");
     }
-}
-
-/// One frame through the stages; a panic in a stage (a bug, in keylo or a plugin) becomes
-/// this cloud's error, and the node goes on.
-fn process_guarded(
-    odometry: &mut Odometry,
-    frame: &LidarFrame,
-    features: bool,
-) -> Result<(FrameResult, Option<FrameFeatures>), CoreError> {
-    let run = std::panic::AssertUnwindSafe(|| {
-        if features {
-            let (r, f) = odometry.process_with_features(frame)?;
-            Ok((r, Some(f)))
-        } else {
-            odometry.process(frame).map(|r| (r, None))
-        }
-    });
-    std::panic::catch_unwind(run).unwrap_or_else(|payload| {
-        let what = payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "no message".into());
-        Err(CoreError::Stage {
-            stage: "pipeline".into(),
-            message: format!("internal error (a stage panicked: {what}); please report it"),
-        })
-    })
 }

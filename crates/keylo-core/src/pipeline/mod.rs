@@ -1,5 +1,6 @@
 //! Composes the stages: [`Odometry`] turns frames into poses; [`Pipeline`] adds the source.
 
+mod guarded;
 mod paced;
 mod per_image;
 mod prefetch;
