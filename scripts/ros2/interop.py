@@ -436,6 +436,87 @@ def run_control(clouds, gt, args, work):
           flush=True)
 
 
+def run_debug(clouds, args, work, config):
+    """Every debug topic on, a base frame with a mounting offset and /tf inverted: the extra
+    messages arrive with their frames, and the base's odometry is A · T · A⁻¹ of keylo run's."""
+    name = "debug-topics"
+    print(f"== {name}: {len(clouds)} clouds, every debug topic, base_to_lidar, invert_odom_tf", flush=True)
+    out = work / name
+    out.mkdir(parents=True, exist_ok=True)
+    bag = out / "reference.mcap"
+    write_reference_bag(bag, clouds)
+    r = subprocess.run([args.keylo, "-q", "run", str(config), "--data", str(bag), "--out",
+                        str(out / "keylo-run"), "--prefetch", "0", "--set", "output.exact=true"],
+                       capture_output=True, text=True)
+    if not check(r.returncode == 0, f"{name}: keylo run: {r.stderr[-1500:]}"):
+        return
+    ref = read_tum(out / "keylo-run/trajectory.tum")
+    mount = [0.1, -0.05, 0.5, 0.0, 0.0, math.sin(0.15), math.cos(0.15)]
+    sets = ["ros2.input_reliability=reliable", f"ros2.domain_id={args.domain}",
+            "ros2.base_frame=base_link", f"ros2.base_to_lidar=[{', '.join(map(str, mount))}]",
+            "ros2.invert_odom_tf=true", "ros2.registered_cloud_topic=keylo/frame",
+            "ros2.keypoint_cloud_topic=keylo/keypoints", "ros2.local_map_topic=keylo/local_map",
+            "ros2.keypoint_image_topic=keylo/keypoint_image"]
+    with open(out / "node.log", "w") as log:
+        node = subprocess.Popen([args.keylo, "ros2", str(config)] + sum((["--set", x] for x in sets), []),
+                                stdout=log, stderr=log)
+    peer = Peer(args.domain)
+    rel = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.History.KeepLast(100))
+    extra = {t: DataReader(peer.dp, Topic(peer.dp, f"rt/keylo/{t}", ty), qos=rel)
+             for t, ty in [("frame", m.PointCloud2), ("keypoints", m.PointCloud2),
+                           ("local_map", m.PointCloud2), ("keypoint_image", m.Image)]}
+    answers = []
+    try:
+        ok = peer.wait_matched()
+        t0 = time.time()
+        while ok and time.time() - t0 < 30 and min(
+                rd.get_subscription_matched_status().current_count for rd in extra.values()) == 0:
+            time.sleep(0.05)
+        for c in clouds:
+            peer.points.write(to_dds(c))
+            msg, _ = peer.answer(args.answer_timeout)
+            answers.append(msg)
+        time.sleep(0.5)
+        got = {t: [x for x in rd.take(N=100) if not type(x).__name__ == "InvalidSample"]
+               for t, rd in extra.items()}
+        tfs = [x for x in peer.tf.take(N=100) if isinstance(x, m.TFMessage)]
+    finally:
+        node.send_signal(signal.SIGINT)
+        code = node.wait(timeout=30)
+    check(code == 0, f"{name}: exit status {code}")
+    if not check(all(a is not None for a in answers) and len(answers) == len(ref),
+                 f"{name}: {sum(a is not None for a in answers)} answers of {len(ref)}"):
+        return
+    a_ = pose_matrix(mount[:3], mount[3:])
+    worst = 0.0
+    for k, a in enumerate(answers):
+        want = a_ @ pose_matrix(ref[k, 1:4], ref[k, 4:8]) @ np.linalg.inv(a_)
+        worst = max(worst, float(np.abs(msg_matrix(a.pose.pose) - want).max()))
+        check(a.child_frame_id == "base_link", f"{name}: child frame {a.child_frame_id}")
+    check(worst < 1e-6, f"{name}: base poses differ from A·T·A⁻¹ of keylo run by {worst:.2e}")
+    n = len(answers)
+    for t in ("frame", "keypoints", "local_map", "keypoint_image"):
+        check(len(got[t]) == n, f"{name}: {len(got[t])} messages on keylo/{t} for {n} answers")
+    frame_id = clouds[0]["frame_id"]
+    check(all(c.header.frame_id == frame_id and c.width > 0 for c in got["frame"] + got["keypoints"]),
+          f"{name}: registered/keypoint clouds not in {frame_id} or empty")
+    check(all(c.header.frame_id == "odom_lidar" and c.width > 0 for c in got["local_map"]),
+          f"{name}: local map not in odom_lidar or empty")
+    if got["keypoint_image"]:
+        img = got["keypoint_image"][-1]
+        px = np.frombuffer(bytes(img.data), dtype=np.uint8).reshape(img.height, img.width, 3)
+        red = int(((px[:, :, 0] == 255) & (px[:, :, 1] == 0)).sum())
+        check(img.encoding == "rgb8" and red > 0, f"{name}: keypoint image {img.encoding}, {red} red pixels")
+    if check(len(tfs) == n, f"{name}: {len(tfs)} /tf for {n} answers"):
+        tr = tfs[-1].transforms[0]
+        inv = np.linalg.inv(msg_matrix(answers[-1].pose.pose))
+        check(tr.header.frame_id == "base_link" and tr.child_frame_id == "odom_lidar"
+              and abs(tr.transform.translation.x - inv[0, 3]) < 1e-9,
+              f"{name}: inverted /tf {tr.header.frame_id} -> {tr.child_frame_id}")
+    print(f"{name}: {n} answers; base poses = A·T·A⁻¹ of keylo run within {worst:.1e}; "
+          f"registered, keypoint and map clouds, keypoint pictures and inverted /tf for each", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--keylo", required=True)
@@ -453,6 +534,8 @@ def main():
     # The paper's method on them: AKAZE keypoints in the cloud's own signal and range images.
     run_stream("ouster-akaze", bag_clouds(fixture, "/ouster/points"), args, args.work,
                config=ROOT / "configs/paper/outdoor-akaze-kiss-icp.toml")
+    run_debug(bag_clouds(fixture, "/ouster/points"), args, args.work,
+              ROOT / "configs/paper/outdoor-akaze-kiss-icp.toml")
     # The same scans unorganised, Velodyne-style (ring, time in s).
     run_stream("ouster-unorganised", bag_clouds(fixture, "/cloud_unorganised"), args, args.work)
     # Simulated road, KITTI-like clouds without point times.

@@ -135,3 +135,14 @@ class PoseStamped(IdlStruct, typename="geometry_msgs::msg::dds_::PoseStamped_"):
 class Path(IdlStruct, typename="nav_msgs::msg::dds_::Path_"):
     header: Header = field(default_factory=Header)
     poses: sequence[PoseStamped] = field(default_factory=list)
+
+
+@dataclass
+class Image(IdlStruct, typename="sensor_msgs::msg::dds_::Image_"):
+    header: Header = field(default_factory=Header)
+    height: uint32 = 0
+    width: uint32 = 0
+    encoding: str = ""
+    is_bigendian: uint8 = 0
+    step: uint32 = 0
+    data: sequence[uint8] = field(default_factory=list)
