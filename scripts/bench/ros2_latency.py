@@ -115,6 +115,32 @@ def stream(args, clouds, out, bins):
                 run_realtime_peak_rss_mb=rt_summary.get("peak_rss_mb"))
 
 
+def flood(args, clouds, out, count):
+    """`count` clouds as fast as the peer writes them (best effort): registration falls behind,
+    the node drops the oldest waiting clouds; its peak RSS must not grow with `count`."""
+    out.mkdir(parents=True, exist_ok=True)
+    node = start_node(args, out, "best-effort")
+    peer = Peer(args.domain)
+    peer.wait_matched()
+    # Clouds cut to their first `flood_points` points, so the peer can write thousands quickly.
+    n = args.flood_points
+    msgs = [to_dds(dict(c, width=min(n, c["width"]), row_step=16 * min(n, c["width"]),
+                        data=c["data"][:16 * n])) for c in clouds[:50]]
+    try:
+        for k in range(count):
+            m_ = msgs[k % len(msgs)]
+            stamp = clouds[0]["stamp_ns"] + k * 100_000_000
+            m_.header.stamp.sec, m_.header.stamp.nanosec = stamp // 10**9, stamp % 10**9
+            peer.points.write(m_)
+            if k % 100 == 0:
+                peer.odom.take(N=1000)
+        time.sleep(2.0)
+    finally:
+        stop(node)
+    summary = json.loads((out / "keylo-ros2/summary.json").read_text())
+    return dict(sent=count, **summary["ros2"], peak_rss_mb=summary.get("peak_rss_mb"))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--keylo", required=True)
@@ -125,11 +151,18 @@ def main():
     ap.add_argument("--stream-count", type=int, default=0)
     ap.add_argument("--hz", type=float, default=10.0)
     ap.add_argument("--domain", type=int, default=19)
+    ap.add_argument("--flood", type=int, nargs="*", default=[],
+                    help="also flood the node with each of these many clouds (memory bound)")
+    ap.add_argument("--flood-points", type=int, default=20_000)
     args = ap.parse_args()
     clouds = kitti_bins(args.bins, 10_000, 1_700_000_000_000_000_000)
-    result = dict(name=args.name, latency=latency(args, clouds, args.work / f"{args.name}-latency"))
+    result = dict(name=args.name)
+    if args.count:
+        result["latency"] = latency(args, clouds, args.work / f"{args.name}-latency")
     if args.stream_count:
         result["stream"] = stream(args, clouds, args.work / f"{args.name}-stream", args.bins)
+    for count in args.flood:
+        result[f"flood_{count}"] = flood(args, clouds, args.work / f"{args.name}-flood-{count}", count)
     print(json.dumps(result, indent=1), flush=True)
 
 

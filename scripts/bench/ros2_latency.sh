@@ -24,3 +24,6 @@ if [ -n "$KITTI" ]; then
     run --name kitti --bins "$KITTI" --count 10 | tee "$OUT/kitti.json"
 fi
 run --name lab --bins "$OUT/lab" --count 50 --stream-count "${STREAM:-1000}" | tee "$OUT/lab.json"
+# Memory over 10 000 clouds: the same node flooded with 1000 and with 10 000 clouds (20 000
+# points each, as fast as the peer writes them); its peak RSS must not grow with the count.
+run --name lab --bins "$OUT/lab" --count 0 --flood 1000 10000 | tee "$OUT/flood.json"
