@@ -22,7 +22,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "ros2"))
 
-from interop import Peer, kitti_bins, to_dds  # noqa: E402
+from peer_common import Peer, kitti_bins, to_dds  # noqa: E402
 
 
 def start_node(args, out, reliability):

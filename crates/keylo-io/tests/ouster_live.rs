@@ -134,7 +134,8 @@ fn live_frames_equal_the_captures() {
         let (got, counters, _) = live_frames(|| {
             let junk = UdpSocket::bind("127.0.0.1:0").expect("socket");
             for n in [1usize, 100, 1500] {
-                junk.send_to(&vec![0xAB; n], ("127.0.0.1", PORT)).expect("sends");
+                junk.send_to(&vec![0xAB; n], ("127.0.0.1", PORT))
+                    .expect("sends");
             }
             send(&pcap, 1.0, |_| false)
         });

@@ -8,6 +8,7 @@
 //! and an external motion prior. Topics, QoS and frames: `docs/ros2.md`.
 
 mod config;
+mod control;
 mod dds;
 mod error;
 pub mod frames;

@@ -10,7 +10,7 @@ use keylo_io::cloud::{ProjectionConfig, Projector, Sensor};
 use keylo_io::ros::CloudFramer;
 use nalgebra::Isometry3;
 
-use crate::dds::{resolve, Command, Dds};
+use crate::dds::{resolve, Dds};
 use crate::frames::{self, BaseFrame};
 use crate::msgs::{self, Time};
 use crate::outputs::{self, OdometryParts, PathKeeper};
@@ -56,23 +56,23 @@ pub struct Published<'a> {
 pub struct Ros2Node {
     pub(crate) config: Ros2Config,
     pub(crate) dds: Dds,
-    framer: CloudFramer,
-    base: BaseFrame,
-    points_topic: String,
-    path: PathKeeper,
-    prior: PriorTrack,
+    pub(crate) framer: CloudFramer,
+    pub(crate) base: BaseFrame,
+    pub(crate) points_topic: String,
+    pub(crate) path: PathKeeper,
+    pub(crate) prior: PriorTrack,
     /// The frame of the first cloud; later clouds must keep it.
-    cloud_frame: Option<String>,
+    pub(crate) cloud_frame: Option<String>,
     /// The previous frame's published base pose and end stamp (s).
-    previous: Option<(Isometry3<f64>, f64)>,
+    pub(crate) previous: Option<(Isometry3<f64>, f64)>,
     /// The last frame's base pose before `anchor` (keylo's own, from the first scan).
-    last_raw_base: Option<Isometry3<f64>>,
+    pub(crate) last_raw_base: Option<Isometry3<f64>>,
     /// Set by set-pose: published pose = anchor · keylo's base pose.
-    anchor: Isometry3<f64>,
-    next_index: u64,
+    pub(crate) anchor: Isometry3<f64>,
+    pub(crate) next_index: u64,
     pub(crate) stats: NodeStats,
-    want_features: bool,
-    pending_prior: bool,
+    pub(crate) want_features: bool,
+    pub(crate) pending_prior: bool,
 }
 
 impl Ros2Node {
@@ -152,60 +152,6 @@ impl Ros2Node {
             clouds_dropped: dropped,
             messages_undecodable: self.dds.undecodable.load(Ordering::Relaxed),
             ..self.stats.clone()
-        }
-    }
-
-    pub(crate) fn command(&mut self, odometry: &mut Odometry, c: Command) {
-        match c {
-            Command::Reset => match odometry.reset() {
-                Ok(()) => {
-                    self.previous = None;
-                    self.last_raw_base = None;
-                    self.anchor = Isometry3::identity();
-                    self.cloud_frame = None;
-                    self.path.clear();
-                    self.prior.clear();
-                    self.stats.resets += 1;
-                    tracing::info!("ros2: reset: map and motion forgotten");
-                }
-                Err(e) => tracing::warn!("ros2: reset refused: {e}"),
-            },
-            Command::SetPose(m) => {
-                let Some(base) = frames::pose_from_msg(&m.pose.pose) else {
-                    tracing::warn!(
-                        "{}: pose is not finite or its quaternion is not unit length; ignored",
-                        self.config.set_pose_topic
-                    );
-                    return;
-                };
-                if !m.header.frame_id.is_empty()
-                    && m.header.frame_id != self.config.lidar_odom_frame
-                {
-                    tracing::warn!(
-                        "{}: the pose is in `{}`, expected `{}`; ignored",
-                        self.config.set_pose_topic,
-                        m.header.frame_id,
-                        self.config.lidar_odom_frame
-                    );
-                    return;
-                }
-                // The published odometry is re-anchored: the base is at `base` now and moves on
-                // from there. keylo's own map and poses are left as they are, so registration
-                // goes on against a consistent map.
-                let raw = self.last_raw_base.unwrap_or_else(Isometry3::identity);
-                self.anchor = base * raw.inverse();
-                // The next twist would otherwise jump by the set-pose step.
-                self.previous = self.previous.map(|(_, t)| (base, t));
-                self.stats.poses_set += 1;
-                tracing::info!("ros2: pose set");
-            }
-            Command::MotionPrior(m) => {
-                if let Err(e) = self.prior.push(&m) {
-                    tracing::warn!("{}: {e}; ignored", self.config.motion_prior_topic);
-                } else {
-                    self.pending_prior = true;
-                }
-            }
         }
     }
 
@@ -310,30 +256,6 @@ impl Ros2Node {
             in_node_seconds: taken.elapsed().as_secs_f64(),
         });
         Ok(())
-    }
-
-    /// Gives the registrar the other odometry's motion between the last scan and this one.
-    fn apply_prior(&mut self, odometry: &mut Odometry, frame: &LidarFrame) {
-        if !self.pending_prior {
-            return;
-        }
-        let Some((_, t0)) = self.previous else {
-            return;
-        };
-        let Some(base_motion) = self.prior.motion(t0, frame.end_stamp()) else {
-            tracing::debug!("ros2: no motion prior covers this scan; the motion model is used");
-            return;
-        };
-        // The other odometry tracks the base; keylo's motion is the LiDAR's.
-        let a = self.base.extrinsic();
-        let lidar_motion = a.inverse() * base_motion * a;
-        match odometry.set_motion_prior(&lidar_motion) {
-            Ok(()) => self.stats.motion_priors_used += 1,
-            Err(e) => {
-                tracing::warn!("ros2: motion prior refused: {e}");
-                self.pending_prior = false;
-            }
-        }
     }
 
     fn publish(
