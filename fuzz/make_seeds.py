@@ -203,6 +203,36 @@ def mcap():
         write("mcap", name, out.getvalue())
 
 
+def ros2_db3():
+    """A ROS 2 sqlite3 bag (rosbag2's Humble schema, written with Python's sqlite3) holding
+    the two clouds and images of the mcap seed."""
+    import sqlite3
+    import tempfile
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "two_frames.db3")
+        c = sqlite3.connect(path)
+        c.executescript(
+            "CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
+            "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,"
+            " serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
+            "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL,"
+            " timestamp INTEGER NOT NULL, data BLOB NOT NULL);"
+            "CREATE INDEX timestamp_idx ON messages (timestamp ASC);"
+            "INSERT INTO schema VALUES (3, 'humble');")
+        c.execute("INSERT INTO topics VALUES (1, '/ouster/points', 'sensor_msgs/msg/PointCloud2', 'cdr', '')")
+        c.execute("INSERT INTO topics VALUES (2, '/ouster/signal_image', 'sensor_msgs/msg/Image', 'cdr', '')")
+        for sec in [1, 2]:
+            t = sec * 1_000_000_000 + 20_000_000
+            c.execute("INSERT INTO messages (topic_id, timestamp, data) VALUES (1, ?, ?)",
+                      (t, bytes(cloud(Cdr(), 2, 4, sec))))
+            c.execute("INSERT INTO messages (topic_id, timestamp, data) VALUES (2, ?, ?)",
+                      (t, bytes(image(Cdr(), 2, 4, sec))))
+        c.commit()
+        c.close()
+        with open(path, "rb") as f:
+            write("ros2_db3", "two_frames.db3", f.read())
+
+
 def point_files():
     pts = [(1.0, 2.0, 3.0, 10.0), (-1.0, 0.5, 0.0, 20.0), (4.0, -2.0, 1.0, 30.0)]
     head = "ply\nformat {}\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float intensity\nend_header\n"
@@ -282,4 +312,4 @@ def plugin():
 
 
 if __name__ == "__main__":
-    ouster(); messages(); ros1_bag(); mcap(); point_files(); kitti(); frames(); text(); plugin()
+    ouster(); messages(); ros1_bag(); mcap(); ros2_db3(); point_files(); kitti(); frames(); text(); plugin()

@@ -54,7 +54,7 @@ cargo "$TOOLCHAIN" fuzz build "${FUZZ_FLAGS[@]}"
 # Inputs big enough for a few lidar packets or messages; text and small files need less.
 max_len() {
     case "$1" in
-        ouster_pcap | ros1_bag | mcap) echo 262144 ;;
+        ouster_pcap | ros1_bag | mcap | ros2_db3) echo 262144 ;;
         *) echo 65536 ;;
     esac
 }

@@ -54,6 +54,10 @@ pub const TARGETS: &[Target] = &[
         run: ros::mcap,
     },
     Target {
+        name: "ros2_db3",
+        run: ros::ros2_db3,
+    },
+    Target {
         name: "ros_messages",
         run: ros::ros_messages,
     },

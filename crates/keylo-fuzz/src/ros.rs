@@ -20,6 +20,12 @@ pub fn mcap(data: &[u8]) {
     recording(data, "capture.mcap", BagFormat::Mcap);
 }
 
+/// A ROS 2 sqlite3 bag (`.db3`): listed as `keylo info` does, then read as source kind `mcap`
+/// (which reads ROS 2 bags in either storage).
+pub fn ros2_db3(data: &[u8]) {
+    recording(data, "capture.db3", BagFormat::Mcap);
+}
+
 fn recording(data: &[u8], name: &str, format: BagFormat) {
     scratch::with_files(&[(name, data)], true, |dir| {
         let path = dir.join(name);
