@@ -160,11 +160,7 @@ impl Ros2Config {
 
     /// Topic and node names as ROS 2 accepts them (checked before joining DDS).
     fn check_names(&self) -> Result<(), String> {
-        let ns = if self.namespace.starts_with('/') {
-            self.namespace.clone()
-        } else {
-            format!("/{}", self.namespace)
-        };
+        let ns = self.namespace_path();
         ros2_client::NodeName::new(&ns, &self.node_name).map_err(|e| {
             format!(
                 "ros2.node_name `{}` in ros2.namespace `{}` is not a valid ROS 2 node name ({e:?})",
@@ -192,6 +188,20 @@ impl Ros2Config {
             })?;
         }
         Ok(())
+    }
+
+    /// The namespace as an absolute path (`robot` → `/robot`).
+    pub(crate) fn namespace_path(&self) -> String {
+        if self.namespace.starts_with('/') {
+            self.namespace.clone()
+        } else {
+            format!("/{}", self.namespace)
+        }
+    }
+
+    /// A topic of these settings, resolved in the namespace.
+    pub(crate) fn topic(&self, topic: &str) -> String {
+        crate::dds::resolve(&self.namespace_path(), topic)
     }
 
     /// The DDS domain: `domain_id`, else `ROS_DOMAIN_ID`, else 0.

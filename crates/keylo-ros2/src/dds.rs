@@ -89,11 +89,7 @@ impl Dds {
         let domain = config.domain()?;
         let context = Context::with_options(ContextOptions::new().domain_id(domain))
             .map_err(|e| dds(&format!("joining domain {domain}"), &e))?;
-        let namespace = if config.namespace.starts_with('/') {
-            config.namespace.clone()
-        } else {
-            format!("/{}", config.namespace)
-        };
+        let namespace = config.namespace_path();
         let mut node = context
             .new_node(
                 NodeName::new(&namespace, &config.node_name).map_err(|e| Ros2Error::Config {
@@ -142,10 +138,10 @@ impl Dds {
         let stop = Arc::new(AtomicBool::new(false));
         let undecodable = Arc::new(AtomicU64::new(0));
         let readers = Readers {
-            points: (points, resolve(ns, &config.points_topic)),
-            reset: reset.map(|r| (r, resolve(ns, &config.reset_topic))),
-            set_pose: set_pose.map(|r| (r, resolve(ns, &config.set_pose_topic))),
-            prior: prior.map(|r| (r, resolve(ns, &config.motion_prior_topic))),
+            points: (points, config.topic(&config.points_topic)),
+            reset: reset.map(|r| (r, config.topic(&config.reset_topic))),
+            set_pose: set_pose.map(|r| (r, config.topic(&config.set_pose_topic))),
+            prior: prior.map(|r| (r, config.topic(&config.motion_prior_topic))),
         };
         let reader = {
             let (inbox, stop, undecodable) = (

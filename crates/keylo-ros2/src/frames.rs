@@ -120,11 +120,7 @@ impl BaseFrame {
         let lever = lidar.rotation * self.a.inverse().translation.vector;
         let mut j = Matrix6::<f64>::identity();
         j.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-skew(&lever)));
-        let r = self.a.rotation.to_rotation_matrix().into_inner();
-        let mut rot = Matrix6::<f64>::zeros();
-        rot.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
-        rot.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);
-        let j = rot * j;
+        let j = rotation6(&self.a) * j;
         let cov = Matrix6::from_fn(|i, k| c[i][k]);
         let out = j * cov * j.transpose();
         row_major(&out)
@@ -134,11 +130,17 @@ impl BaseFrame {
 /// A pose covariance (ROS order, row-major) of a pose `P` as the covariance of `C · P`: both
 /// blocks turn with `C`'s rotation (its translation moves nothing uncertain).
 pub fn rotate_covariance(cov: &[f64; 36], c: &Isometry3<f64>) -> [f64; 36] {
+    let j = rotation6(c);
+    row_major(&(j * Matrix6::from_row_slice(cov) * j.transpose()))
+}
+
+/// `blockdiag(R, R)` of `c`'s rotation: turns both blocks of a (position, rotation) vector.
+fn rotation6(c: &Isometry3<f64>) -> Matrix6<f64> {
     let r = c.rotation.to_rotation_matrix().into_inner();
     let mut j = Matrix6::<f64>::zeros();
     j.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
     j.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);
-    row_major(&(j * Matrix6::from_row_slice(cov) * j.transpose()))
+    j
 }
 
 /// The fixed diagonal of KISS-ICP's node: position variance on x y z, orientation on the rest.

@@ -18,6 +18,8 @@ pub struct OdometryParts<'a> {
     pub base: &'a BaseFrame,
     /// The set-pose correction: published pose = anchor · base pose.
     pub anchor: &'a Isometry3<f64>,
+    /// The pose published: `anchor · base.base_pose(r.pose)`.
+    pub base_pose: Isometry3<f64>,
     pub sigma: f64,
     /// Fallback `(position, orientation)` variances.
     pub fallback: (f64, f64),
@@ -26,7 +28,7 @@ pub struct OdometryParts<'a> {
 /// `nav_msgs/Odometry` of a frame; the second value says whether the covariance is keylo's
 /// own estimate (false: the fixed fallback diagonal).
 pub fn odometry(r: &FrameResult, p: &OdometryParts) -> (msgs::Odometry, bool) {
-    let base_pose = p.anchor * p.base.base_pose(&r.pose);
+    let base_pose = p.base_pose;
     let estimated = r
         .degeneracy
         .as_ref()
@@ -69,23 +71,9 @@ fn twist_covariance(pose_cov: &[f64; 36], base_pose: &Isometry3<f64>, dt: f64) -
     if !(dt > 0.0 && dt.is_finite()) {
         return [0.0; 36];
     }
-    let r = base_pose
-        .rotation
-        .to_rotation_matrix()
-        .into_inner()
-        .transpose();
-    let mut j = nalgebra::Matrix6::<f64>::zeros();
-    j.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
-    j.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);
-    let c = nalgebra::Matrix6::from_row_slice(pose_cov);
-    let out = j * c * j.transpose() / (dt * dt);
-    let mut flat = [0.0; 36];
-    for i in 0..6 {
-        for k in 0..6 {
-            flat[i * 6 + k] = out[(i, k)];
-        }
-    }
-    flat
+    let mut out = frames::rotate_covariance(pose_cov, &base_pose.inverse());
+    out.iter_mut().for_each(|v| *v /= dt * dt);
+    out
 }
 
 /// The `/tf` message: `odom → base`, or `base → odom` when `invert`.

@@ -10,7 +10,7 @@ use keylo_io::cloud::{ProjectionConfig, Projector, Sensor};
 use keylo_io::ros::CloudFramer;
 use nalgebra::Isometry3;
 
-use crate::dds::{resolve, Dds};
+use crate::dds::Dds;
 use crate::frames::{self, BaseFrame};
 use crate::msgs::{self, Time};
 use crate::outputs::{self, OdometryParts, PathKeeper};
@@ -92,11 +92,11 @@ impl Ros2Node {
         let mut framer = CloudFramer::new(projector, None, &config.points_topic);
         framer.set_grid_needed(odometry.needs_grid());
         let dds = Dds::start(&config)?;
-        let points_topic = resolve(&config.namespace, &config.points_topic);
+        let points_topic = config.topic(&config.points_topic);
         tracing::info!(
             "ros2: listening on {points_topic} ({:?}), odometry on {}",
             config.input_reliability,
-            resolve(&config.namespace, &config.odometry_topic)
+            config.topic(&config.odometry_topic)
         );
         Ok(Self {
             want_features: !config.keypoint_cloud_topic.is_empty()
@@ -273,6 +273,8 @@ impl Ros2Node {
         } else {
             self.config.base_frame.as_str()
         };
+        let raw_base = self.base.base_pose(&r.pose);
+        let base_pose = self.anchor * raw_base;
         let (odom, estimated) = outputs::odometry(
             r,
             &OdometryParts {
@@ -282,6 +284,7 @@ impl Ros2Node {
                 previous: self.previous,
                 base: &self.base,
                 anchor: &self.anchor,
+                base_pose,
                 sigma: self.config.residual_sigma_m,
                 fallback: (
                     self.config.position_covariance,
@@ -292,8 +295,6 @@ impl Ros2Node {
         if !estimated {
             self.stats.fallback_covariances += 1;
         }
-        let raw_base = self.base.base_pose(&r.pose);
-        let base_pose = self.anchor * raw_base;
         self.last_raw_base = Some(raw_base);
         self.previous = Some((base_pose, r.stamp));
         let w = &self.dds.writers;
