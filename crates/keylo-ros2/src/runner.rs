@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use keylo_core::{FrameFeatures, FrameResult, LidarFrame, Odometry};
 use keylo_io::cloud::{ProjectionConfig, Projector, Sensor};
-use keylo_io::ros::CloudFramer;
+use keylo_io::ros::{to_raw_cloud, CloudFramer};
 use nalgebra::Isometry3;
 
 use crate::dds::Dds;
@@ -183,7 +183,7 @@ impl Ros2Node {
             }
         }
         let started = Instant::now();
-        let cloud = match CloudFramer::cloud(&msg.view()) {
+        let cloud = match to_raw_cloud(&msg.view()) {
             Ok(c) => c,
             Err(e) => return self.refuse(msg, &e.to_string()),
         };

@@ -9,8 +9,6 @@ use std::sync::Arc;
 use keylo_core::{BeamGeometry, LidarFrame};
 
 use super::beams;
-use super::msgs::{DecodeError, PointCloud2};
-use super::pointcloud2::to_raw_cloud;
 use crate::cloud::{organised, Projector, RawCloud};
 use crate::ouster::OusterMetadata;
 
@@ -38,11 +36,6 @@ impl CloudFramer {
     /// See [`keylo_core::ImageSource::set_grid_needed`].
     pub fn set_grid_needed(&mut self, needed: bool) {
         self.projector.set_grid_needed(needed);
-    }
-
-    /// The cloud of a message (error: the field or size that is wrong).
-    pub fn cloud(msg: &PointCloud2) -> Result<RawCloud, DecodeError> {
-        to_raw_cloud(msg)
     }
 
     /// The frame of a decoded cloud; `Err` says what is wrong with it.

@@ -245,12 +245,9 @@ fn ranges(layout: &Layout) -> Result<Option<Vec<f32>>, String> {
         return Ok(None);
     };
     let scale = if c.scalar.is_float() { 1.0 } else { 1e-3 };
+    let big = layout.msg.is_bigendian;
     Ok(Some(
-        layout
-            .values(c)
-            .into_iter()
-            .map(|v| (v * scale) as f32)
-            .collect(),
+        layout.gather(c, |b| (c.scalar.read(b, big) * scale) as f32),
     ))
 }
 
@@ -281,7 +278,8 @@ fn times(layout: &Layout, stamp_s: f64) -> Result<Option<Vec<f64>>, String> {
         return Ok(None);
     };
     let unit = if c.scalar.is_float() { 1.0 } else { 1e-9 };
-    let mut t: Vec<f64> = layout.values(c).into_iter().map(|v| v * unit).collect();
+    let big = layout.msg.is_bigendian;
+    let mut t = layout.gather(c, |b| c.scalar.read(b, big) * unit);
     let largest = t
         .iter()
         .filter(|v| v.is_finite())
