@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::Args;
@@ -79,8 +79,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         tracing::warn!("Ctrl-C will not end the node cleanly: {e}");
     }
     let idle = (args.idle_timeout > 0.0).then(|| Duration::from_secs_f64(args.idle_timeout));
-    let cpu0 = resources::cpu_seconds();
-    let start = Instant::now();
+    let clock = resources::RunClock::start();
     let mut totals = Totals::default();
     let mut trajectory = Trajectory::default();
     let mut write_error: Option<anyhow::Error> = None;
@@ -129,7 +128,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     };
     let counters: std::collections::BTreeMap<String, u64> = counters.into_iter().collect();
     report::log_counters(&counters);
-    let wall = start.elapsed().as_secs_f64();
+    let (wall_hz, cpu_percent) = clock.rates(totals.frames);
     if !quiet {
         eprintln!(
             "keylo ros2: {} clouds received, {} registered, {} dropped (registration behind), \
@@ -150,15 +149,9 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
             } else {
                 format!("{} (keylo ros2)", config.source.kind)
             },
-            wall_hz: if wall > 0.0 {
-                totals.frames as f64 / wall
-            } else {
-                0.0
-            },
+            wall_hz,
             peak_rss_mb: resources::peak_rss_mb(),
-            cpu_percent: cpu0
-                .zip(resources::cpu_seconds())
-                .map(|(a, b)| 100.0 * (b - a) / wall.max(1e-9)),
+            cpu_percent,
             path_length_m: trajectory.path_length(),
             ros2: serde_json::to_value(&stats).ok(),
             source_counters: counters,

@@ -53,8 +53,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     tracing::info!("source: {}; output: {}", info.description, out.display());
 
     let progress = progress_bar(info.frames, quiet);
-    let cpu0 = resources::cpu_seconds();
-    let start = Instant::now();
+    let clock = resources::RunClock::start();
     let mut outcome = RunState::default();
     let mut journal = Journal::create(&out, &config.output)?;
     let mut pictures = args
@@ -71,7 +70,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         &mut outcome,
     );
     progress.finish_and_clear();
-    let wall = start.elapsed().as_secs_f64();
+    let (wall_hz, cpu_percent) = clock.rates(outcome.totals.frames);
 
     let mut summary = Summary {
         keylo_version: env!("CARGO_PKG_VERSION"),
@@ -79,15 +78,9 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         source: info.description,
         frames_skipped: outcome.skipped,
         failed: outcome.failure,
-        wall_hz: if wall > 0.0 {
-            outcome.totals.frames as f64 / wall
-        } else {
-            0.0
-        },
+        wall_hz,
         peak_rss_mb: resources::peak_rss_mb(),
-        cpu_percent: cpu0
-            .zip(resources::cpu_seconds())
-            .map(|(a, b)| 100.0 * (b - a) / wall.max(1e-9)),
+        cpu_percent,
         path_length_m: outcome.trajectory.path_length(),
         playback_speed: args.realtime,
         frames_late: late.map(|n| n.load(std::sync::atomic::Ordering::Relaxed)),

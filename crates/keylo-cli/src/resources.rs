@@ -27,3 +27,34 @@ pub fn cpu_seconds() -> Option<f64> {
     const CLOCK_TICKS_PER_SECOND: f64 = 100.0;
     Some((utime + stime) / CLOCK_TICKS_PER_SECOND)
 }
+
+/// Wall and CPU time since a run started, for its summary's rates.
+pub struct RunClock {
+    start: std::time::Instant,
+    cpu0: Option<f64>,
+}
+
+impl RunClock {
+    /// Starts counting now.
+    pub fn start() -> Self {
+        Self {
+            cpu0: cpu_seconds(),
+            start: std::time::Instant::now(),
+        }
+    }
+
+    /// Measured now: `frames` per second of wall time, and the CPU % over that time.
+    pub fn rates(&self, frames: usize) -> (f64, Option<f64>) {
+        let wall = self.start.elapsed().as_secs_f64();
+        let hz = if wall > 0.0 {
+            frames as f64 / wall
+        } else {
+            0.0
+        };
+        let cpu = self
+            .cpu0
+            .zip(cpu_seconds())
+            .map(|(a, b)| 100.0 * (b - a) / wall.max(1e-9));
+        (hz, cpu)
+    }
+}
