@@ -31,10 +31,10 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-import peer_common  # noqa: E402  (sets CYCLONEDDS_URI before Cyclone DDS loads)
+# peer_common sets CYCLONEDDS_URI before Cyclone DDS loads.
 from peer_common import (  # noqa: E402
-    ROOT, Peer, bag_clouds, check, end_stamp_ns, kitti_bins, quat_angle, read_tum, records,
-    to_dds, write_reference_bag)
+    ROOT, Peer, bag_clouds, check, end_stamp_ns, finish, kitti_bins, quat_angle, read_tum,
+    records, reference_run, to_dds)
 from interop_control import run_control, run_debug  # noqa: E402
 import ros2_idl as m  # noqa: E402
 
@@ -65,18 +65,11 @@ def run_stream(name, clouds, args, work, bad_after=None, config_sets=(), config=
     print(f"== {name}: {len(clouds)} clouds of {clouds[0]['height']}x{clouds[0]['width']}", flush=True)
     out = work / name
     out.mkdir(parents=True, exist_ok=True)
-    bag = out / "reference.mcap"
-    write_reference_bag(bag, clouds)
-    ref_dir = out / "keylo-run"
-    sets = []
-    for s in ("output.exact=true",) + tuple(config_sets):
-        sets += ["--set", s]
-    cfg = [str(config)] if config else []
-    r = subprocess.run([args.keylo, "-q", "run"] + cfg + ["--data", str(bag), "--out", str(ref_dir),
-                        "--prefetch", "0"] + sets, capture_output=True, text=True)
-    if not check(r.returncode == 0, f"{name}: keylo run on the reference bag: {r.stderr[-2000:]}"):
+    ref = reference_run(name, args.keylo, clouds, out, config, config_sets)
+    if ref is None:
         return
-    ref = read_tum(ref_dir / "trajectory.tum")
+    sets = sum((["--set", s] for s in ("output.exact=true",) + tuple(config_sets)), [])
+    cfg = [str(config)] if config else []
 
     node_dir = out / "keylo-ros2"
     log_path = out / "node.log"
@@ -199,10 +192,7 @@ def main():
     if args.kitti:
         run_stream("kitti", kitti_bins(args.kitti, args.kitti_frames, 1_317_000_000_000_000_000),
                    args, args.work, bad_after=4)
-    if peer_common.FAILURES:
-        print(f"{len(peer_common.FAILURES)} check(s) failed", flush=True)
-        sys.exit(1)
-    print("all checks passed", flush=True)
+    finish()
 
 
 if __name__ == "__main__":

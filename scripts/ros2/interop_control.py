@@ -16,8 +16,7 @@ from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 from cyclonedds.util import duration
-from peer_common import (Peer, check, msg_matrix, pose_matrix, read_tum, to_dds,
-                         write_reference_bag)
+from peer_common import Peer, check, msg_matrix, pose_matrix, reference_run, to_dds
 
 
 def run_control(clouds, gt, args, work):
@@ -28,13 +27,9 @@ def run_control(clouds, gt, args, work):
     print(f"== {name}: {len(clouds)} clouds, motion prior, set_pose, reset", flush=True)
     out = work / name
     out.mkdir(parents=True, exist_ok=True)
-    bag = out / "reference.mcap"
-    write_reference_bag(bag, clouds)
-    r = subprocess.run([args.keylo, "-q", "run", "--data", str(bag), "--out", str(out / "keylo-run"),
-                        "--prefetch", "0", "--set", "output.exact=true"], capture_output=True, text=True)
-    if not check(r.returncode == 0, f"{name}: keylo run: {r.stderr[-1500:]}"):
+    ref = reference_run(name, args.keylo, clouds, out)
+    if ref is None:
         return
-    ref = read_tum(out / "keylo-run/trajectory.tum")
     with open(out / "node.log", "w") as log:
         node = subprocess.Popen(
             [args.keylo, "-v", "ros2", "--out", str(out / "keylo-ros2"),
@@ -111,14 +106,9 @@ def run_debug(clouds, args, work, config):
     print(f"== {name}: {len(clouds)} clouds, every debug topic, base_to_lidar, invert_odom_tf", flush=True)
     out = work / name
     out.mkdir(parents=True, exist_ok=True)
-    bag = out / "reference.mcap"
-    write_reference_bag(bag, clouds)
-    r = subprocess.run([args.keylo, "-q", "run", str(config), "--data", str(bag), "--out",
-                        str(out / "keylo-run"), "--prefetch", "0", "--set", "output.exact=true"],
-                       capture_output=True, text=True)
-    if not check(r.returncode == 0, f"{name}: keylo run: {r.stderr[-1500:]}"):
+    ref = reference_run(name, args.keylo, clouds, out, config)
+    if ref is None:
         return
-    ref = read_tum(out / "keylo-run/trajectory.tum")
     mount = [0.1, -0.05, 0.5, 0.0, 0.0, math.sin(0.15), math.cos(0.15)]
     sets = ["ros2.input_reliability=reliable", f"ros2.domain_id={args.domain}",
             "ros2.base_frame=base_link", f"ros2.base_to_lidar=[{', '.join(map(str, mount))}]",

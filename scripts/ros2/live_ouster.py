@@ -27,8 +27,8 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 sys.path.insert(0, str(HERE))
 
-import peer_common  # noqa: E402  (sets CYCLONEDDS_URI before Cyclone DDS loads)
-from peer_common import Peer, check, quat_angle, read_tum  # noqa: E402
+# peer_common sets CYCLONEDDS_URI before Cyclone DDS loads.
+from peer_common import Peer, check, finish, quat_angle, read_tum  # noqa: E402
 
 import numpy as np  # noqa: E402
 
@@ -208,10 +208,7 @@ def main():
     rng = random.Random(5)
     picked = {i for i in range(100_000) if rng.random() < 0.05}
     run_pass("ouster-udp-5pct-lost", args, args.work, lambda i: i in picked)
-    if peer_common.FAILURES:
-        print(f"{len(peer_common.FAILURES)} check(s) failed", flush=True)
-        sys.exit(1)
-    print("all checks passed", flush=True)
+    finish()
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ Used by interop.py, interop_control.py, live_ouster.py and scripts/bench/ros2_la
 
 import math
 import os
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -146,6 +147,28 @@ def write_reference_bag(path, clouds, topic="/points"):
             w.add_message(channel, log_time=s, publish_time=s,
                           data=bytes(STORE.serialize_cdr(msg, msgtype)))
         w.finish()
+
+
+def reference_run(name, keylo, clouds, out, config=None, sets=()):
+    """The clouds as a ROS 2 MCAP bag in `out` and `keylo run` on it, with exact trajectory
+    numbers: its poses as TUM rows, or None when it failed (the failure is recorded)."""
+    bag = out / "reference.mcap"
+    write_reference_bag(bag, clouds)
+    cfg = [str(config)] if config else []
+    overrides = sum((["--set", s] for s in ("output.exact=true",) + tuple(sets)), [])
+    r = subprocess.run([keylo, "-q", "run"] + cfg + ["--data", str(bag), "--out", str(out / "keylo-run"),
+                        "--prefetch", "0"] + overrides, capture_output=True, text=True)
+    if not check(r.returncode == 0, f"{name}: keylo run on the reference bag: {r.stderr[-2000:]}"):
+        return None
+    return read_tum(out / "keylo-run/trajectory.tum")
+
+
+def finish():
+    """Ends a peer script: exit status 1 when a check failed."""
+    if FAILURES:
+        print(f"{len(FAILURES)} check(s) failed", flush=True)
+        sys.exit(1)
+    print("all checks passed", flush=True)
 
 
 def read_tum(path):
