@@ -254,10 +254,8 @@ struct Readers {
     prior: Option<(Subscription<msgs::Odometry>, String)>,
 }
 
-const POINTS: Token = Token(0);
-const RESET: Token = Token(1);
-const SET_POSE: Token = Token(2);
-const PRIOR: Token = Token(3);
+/// Every reader wakes the poll alike: whatever arrived, all readers are drained.
+const ANY: Token = Token(0);
 
 impl Readers {
     fn run(
@@ -276,16 +274,16 @@ impl Readers {
         };
         let registry = poll.registry();
         let mut ok = registry
-            .register(&mut self.points.0, POINTS, Interest::READABLE)
+            .register(&mut self.points.0, ANY, Interest::READABLE)
             .is_ok();
         if let Some((r, _)) = self.reset.as_mut() {
-            ok &= registry.register(r, RESET, Interest::READABLE).is_ok();
+            ok &= registry.register(r, ANY, Interest::READABLE).is_ok();
         }
         if let Some((r, _)) = self.set_pose.as_mut() {
-            ok &= registry.register(r, SET_POSE, Interest::READABLE).is_ok();
+            ok &= registry.register(r, ANY, Interest::READABLE).is_ok();
         }
         if let Some((r, _)) = self.prior.as_mut() {
-            ok &= registry.register(r, PRIOR, Interest::READABLE).is_ok();
+            ok &= registry.register(r, ANY, Interest::READABLE).is_ok();
         }
         if !ok {
             tracing::error!("ros2: cannot register the DDS readers; no input will be read");
