@@ -187,8 +187,8 @@ def quat_angle(q1, q2):
 class Peer:
     def __init__(self, domain):
         self.dp = DomainParticipant(domain)
-        rel = Qos(Policy.Reliability.Reliable(duration(seconds=1)),
-                  Policy.History.KeepLast(100), Policy.Durability.Volatile)
+        self.rel = rel = Qos(Policy.Reliability.Reliable(duration(seconds=1)),
+                             Policy.History.KeepLast(100), Policy.Durability.Volatile)
         self.points = DataWriter(self.dp, Topic(self.dp, "rt/points", m.PointCloud2), qos=rel)
         self.odom = DataReader(self.dp, Topic(self.dp, "rt/keylo/odometry", m.Odometry), qos=rel)
         self.tf = DataReader(self.dp, Topic(self.dp, "rt/tf", m.TFMessage), qos=rel)

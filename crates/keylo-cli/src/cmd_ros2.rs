@@ -61,7 +61,10 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
                 std::fs::File::create(&path)
                     .with_context(|| format!("creating {}", path.display()))?,
             );
-            writeln!(f, "frame,stamp_ns,odometry_ms,in_node_ms")?;
+            writeln!(
+                f,
+                "frame,stamp_ns,odometry_ms,in_node_ms,waited_ms,prepare_ms,publish_ms"
+            )?;
             Some(f)
         }
         None => None,
@@ -90,11 +93,14 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         if let (Some(f), None) = (latency.as_mut(), &write_error) {
             let line = writeln!(
                 f,
-                "{},{},{:.3},{:.3}",
+                "{},{},{:.3},{:.3},{:.3},{:.3},{:.3}",
                 p.result.index,
                 p.stamp_ns,
                 1e3 * p.seconds,
-                1e3 * p.in_node_seconds
+                1e3 * p.in_node_seconds,
+                1e3 * p.waited_seconds,
+                1e3 * p.prepare_seconds,
+                1e3 * p.publish_seconds
             )
             .and_then(|()| f.flush());
             if let Err(e) = line {

@@ -202,3 +202,36 @@ fn partial_frames_and_rate_control() {
         vec![0, 2]
     );
 }
+
+/// An azimuth window across the frame's start (ouster-sdk's wrapped column window, e.g.
+/// `[1000, 23]`) is valid: its frames are complete when columns 1000..1023 and 0..23 came, and
+/// lost packets are counted in both of its parts.
+#[test]
+fn a_column_window_across_the_frame_start_is_read() {
+    let frames_and_lost = |window: &str, partial| {
+        let (_d, path) = sample(|b| b, |m| m.replace("\"column_window\":[0,1023]", window));
+        let mut s = open(&path, |c| c.partial_frames = partial).unwrap();
+        let frames: Vec<u64> = std::iter::from_fn(|| s.next_frame())
+            .map(|f| f.unwrap().index)
+            .collect();
+        let lost = s
+            .counters()
+            .into_iter()
+            .find(|(k, _)| k == "packets_lost")
+            .map(|(_, v)| v);
+        (frames, lost)
+    };
+    use keylo_io::ouster::PartialFrames::{Keep, SkipAll};
+    let wrapped = "\"column_window\":[1000,23]";
+    assert_eq!(
+        frames_and_lost(wrapped, SkipAll),
+        (vec![0, 1], Some(0)),
+        "the two whole turns are complete frames in a wrapped window"
+    );
+    // The capture's last frame stops after column 383: of the whole window it misses 640
+    // columns (40 packets of 16), of the wrapped one columns 1000..=1023 only (2 packets).
+    let (all, lost_all) = frames_and_lost("\"column_window\":[0,1023]", Keep);
+    let (wrapped_frames, lost_wrapped) = frames_and_lost(wrapped, Keep);
+    assert_eq!((all, wrapped_frames), (vec![0, 1, 2], vec![0, 1, 2]));
+    assert_eq!((lost_all, lost_wrapped), (Some(40), Some(2)));
+}

@@ -50,6 +50,22 @@ pub struct Published<'a> {
     /// From the cloud taken from DDS (or the frame from the source) to its odometry published,
     /// seconds: waiting, decoding, the stages and publishing.
     pub in_node_seconds: f64,
+    /// Of `in_node_seconds`: waiting in the node's queue until the loop took it.
+    pub waited_seconds: f64,
+    /// Of `in_node_seconds`: decoding the PointCloud2 and making the frame (0 for a source's
+    /// frames, which come made).
+    pub prepare_seconds: f64,
+    /// Of `in_node_seconds`: making and writing the output messages.
+    pub publish_seconds: f64,
+}
+
+/// When the node got a cloud and when its loop started on it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Held {
+    /// Taken from DDS (or from the source's queue by its reading thread).
+    pub taken: Instant,
+    /// Taken from the node's queue by the registering loop.
+    pub started: Instant,
 }
 
 /// The ROS 2 node: DDS in and out around an [`Odometry`].
@@ -209,7 +225,8 @@ impl Ros2Node {
             1e3 * (started.elapsed().as_secs_f64() - decoded)
         );
         let header = (msg.header.stamp.to_ns(), msg.header.frame_id.as_str());
-        if let Err(e) = self.register(odometry, &frame, header, taken, on_frame) {
+        let held = Held { taken, started };
+        if let Err(e) = self.register(odometry, &frame, header, held, on_frame) {
             self.refuse(msg, &e);
         }
     }
@@ -221,11 +238,12 @@ impl Ros2Node {
         odometry: &mut Odometry,
         frame: &LidarFrame,
         (stamp_ns, frame_id): (i64, &str),
-        taken: Instant,
+        held: Held,
         on_frame: &mut impl FnMut(&Published),
     ) -> Result<(), String> {
         self.apply_prior(odometry, frame);
         let t = Instant::now();
+        let prepare_seconds = (t - held.started).as_secs_f64();
         let processed = odometry.process_guarded(frame, self.want_features);
         let seconds = t.elapsed().as_secs_f64();
         let (result, features) = processed.map_err(|e| e.to_string())?;
@@ -242,18 +260,22 @@ impl Ros2Node {
             frame_id,
             end_ns,
         );
+        let publish_seconds = published.elapsed().as_secs_f64();
         tracing::debug!(
             "ros2: frame {}: stages {:.2} ms, publishing {:.2} ms",
             result.index,
             1e3 * seconds,
-            1e3 * published.elapsed().as_secs_f64()
+            1e3 * publish_seconds
         );
         self.stats.frames += 1;
         on_frame(&Published {
             result: &result,
             stamp_ns: end_ns,
             seconds,
-            in_node_seconds: taken.elapsed().as_secs_f64(),
+            in_node_seconds: held.taken.elapsed().as_secs_f64(),
+            waited_seconds: (held.started - held.taken).as_secs_f64(),
+            prepare_seconds,
+            publish_seconds,
         });
         Ok(())
     }

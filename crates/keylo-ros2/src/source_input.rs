@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use keylo_core::{ImageSource, Odometry};
 
 use crate::inbox::Inbox;
-use crate::runner::{NodeStats, Published, Ros2Node};
+use crate::runner::{Held, NodeStats, Published, Ros2Node};
 
 impl Ros2Node {
     /// Runs on the frames of `source` (a live sensor, e.g. `ouster-udp`) instead of the points
@@ -54,11 +54,15 @@ impl Ros2Node {
                     continue;
                 };
                 let stamp_ns = (frame.timestamp * 1e9).round() as i64;
+                let held = Held {
+                    taken,
+                    started: Instant::now(),
+                };
                 if let Err(e) = self.register(
                     odometry,
                     &frame,
                     (stamp_ns, &sensor_frame),
-                    taken,
+                    held,
                     &mut on_frame,
                 ) {
                     self.stats.clouds_refused += 1;

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use super::datagrams::Datagrams;
-use super::metadata::OusterMetadata;
+use super::metadata::{in_column_window, OusterMetadata};
 use super::packet::{PacketFormat, RawFrame};
 use super::pcap::UdpReader;
 use crate::IoError;
@@ -85,11 +85,12 @@ impl Batcher {
 
     fn finish(&self, mut frame: RawFrame) -> BatchedFrame {
         frame.clear_missing_columns();
-        let (first, last) = self.window;
+        let window = self.window;
         let complete = frame
             .column_valid
-            .get(first..=last)
-            .is_some_and(|w| w.iter().all(|v| *v));
+            .iter()
+            .enumerate()
+            .all(|(c, valid)| *valid || !in_column_window(window, c));
         BatchedFrame { frame, complete }
     }
 

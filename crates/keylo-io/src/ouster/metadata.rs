@@ -75,7 +75,8 @@ pub struct OusterMetadata {
     pub columns_per_frame: usize,
     pub pixels_per_column: usize,
     pub columns_per_packet: usize,
-    /// First and last column the sensor sends (inclusive).
+    /// First and last column the sensor sends (inclusive). An azimuth window across the
+    /// frame's start wraps: `first > last` means columns `first..cols` and `0..=last`.
     pub column_window: (usize, usize),
     /// Staggering: row `r` is shifted by this many columns in the raw (staggered) image.
     pub pixel_shift_by_row: Vec<i64>,
@@ -98,6 +99,16 @@ const DEFAULT_LIDAR_TO_SENSOR: [f64; 16] = [
     -1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 36.18, 0.0, 0.0, 0.0, 1.0,
 ];
 const DEFAULT_COLUMNS_PER_PACKET: usize = 16;
+
+/// Whether column `c` lies in the column window `(first, last)` (inclusive; wrapped when
+/// `first > last`, as ouster-sdk reads an azimuth window across the frame's start).
+pub(crate) fn in_column_window((first, last): (usize, usize), c: usize) -> bool {
+    if first <= last {
+        (first..=last).contains(&c)
+    } else {
+        c >= first || c <= last
+    }
+}
 
 impl OusterMetadata {
     /// Reads and parses a metadata file.
@@ -329,7 +340,7 @@ impl OusterMetadata {
         if rows == 0
             || self.columns_per_frame == 0
             || self.columns_per_packet == 0
-            || first > last
+            || first >= self.columns_per_frame
             || last >= self.columns_per_frame
         {
             return Err(IoError::format(

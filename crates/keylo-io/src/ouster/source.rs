@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::batcher::{BatchedFrame, Batcher};
 use super::checks::check_frame;
 use super::destagger::{Destaggerer, Return};
-use super::metadata::OusterMetadata;
+use super::metadata::{in_column_window, OusterMetadata};
 use crate::select::FrameSelection;
 use crate::IoError;
 
@@ -287,17 +287,8 @@ pub(crate) fn return_of(
 
 /// Lidar packets a frame misses: columns of the column window never received, in packets.
 fn lost_packets(frame: &super::packet::RawFrame, meta: &OusterMetadata) -> u64 {
-    let (first, last) = meta.column_window;
-    let cols = frame.column_valid.len();
-    let in_window = |c: usize| {
-        if first <= last {
-            (first..=last).contains(&c)
-        } else {
-            c >= first || c <= last
-        }
-    };
-    let missing = (0..cols)
-        .filter(|&c| in_window(c) && !frame.column_valid[c])
+    let missing = (frame.column_valid.iter().enumerate())
+        .filter(|&(c, valid)| !valid && in_column_window(meta.column_window, c))
         .count();
     missing.div_ceil(meta.columns_per_packet.max(1)) as u64
 }
