@@ -2,6 +2,8 @@
 //! `brisk`, `sift`, `akaze`, `kaze`, `orb`, and `surf` (an explanatory error here).
 
 mod akaze;
+mod akaze_levels;
+mod akaze_sized;
 mod brisk;
 mod fast;
 mod feature;
@@ -11,6 +13,7 @@ mod sift;
 mod surf;
 
 pub use akaze::{AkazeDescriptor, AkazeParams, Diffusivity, KazeParams};
+pub use akaze_sized::AkazeFeature;
 pub use brisk::BriskParams;
 pub use fast::{FastParams, FastType};
 pub use feature::{CvFeature, CvParams};
@@ -81,12 +84,28 @@ pub fn register(registry: &mut Registry) {
     add_detector::<FastParams>(registry, "FAST corners (OpenCV FastFeatureDetector)");
     add_detector::<BriskParams>(registry, "BRISK keypoints (OpenCV)");
     add_detector::<SiftParams>(registry, "SIFT keypoints (OpenCV)");
-    add_detector::<AkazeParams>(registry, "AKAZE keypoints (OpenCV)");
+    registry.detectors.add::<AkazeParams>(
+        <AkazeParams as CvParams>::KIND,
+        "AKAZE keypoints (OpenCV; only the scale levels the image size can use)",
+        |p, _| {
+            Ok(Box::new(
+                AkazeFeature::new(&p).map_err(|e| e.in_stage("detector"))?,
+            ))
+        },
+    );
     add_detector::<KazeParams>(registry, "KAZE keypoints (OpenCV)");
     add_detector::<OrbParams>(registry, "ORB keypoints (OpenCV)");
     add_descriptor::<BriskParams>(registry, "BRISK binary descriptor (OpenCV)");
     add_descriptor::<SiftParams>(registry, "SIFT 128-d float descriptor (OpenCV)");
-    add_descriptor::<AkazeParams>(registry, "AKAZE descriptor (OpenCV; needs AKAZE keypoints)");
+    registry.descriptors.add::<AkazeParams>(
+        <AkazeParams as CvParams>::KIND,
+        "AKAZE descriptor (OpenCV; needs AKAZE keypoints)",
+        |p, _| {
+            Ok(Box::new(
+                AkazeFeature::new(&p).map_err(|e| e.in_stage("descriptor"))?,
+            ))
+        },
+    );
     add_descriptor::<KazeParams>(
         registry,
         "KAZE float descriptor (OpenCV; needs KAZE keypoints)",
