@@ -22,7 +22,12 @@ fn read_png(path: &Path) -> (Vec<u8>, usize, usize) {
         .unwrap();
     let mut buf = vec![0; reader.output_buffer_size().unwrap()];
     let info = reader.next_frame(&mut buf).unwrap();
-    assert_eq!(info.color_type, png::ColorType::Grayscale, "{}", path.display());
+    assert_eq!(
+        info.color_type,
+        png::ColorType::Grayscale,
+        "{}",
+        path.display()
+    );
     buf.truncate(info.buffer_size());
     (buf, info.height as usize, info.width as usize)
 }
@@ -54,8 +59,11 @@ fn keylo_detector() -> Box<dyn Detector> {
 fn keylo_descriptor() -> Box<dyn Descriptor> {
     let r = registry();
     let f = r.descriptors.get("akaze").unwrap();
-    f.build(&f.resolve(&toml::Table::new()).unwrap(), &Default::default())
-        .unwrap()
+    f.build(
+        &f.resolve(&toml::Table::new()).unwrap(),
+        &Default::default(),
+    )
+    .unwrap()
 }
 
 fn bits(k: &[Keypoint]) -> Vec<[u32; 7]> {
@@ -124,7 +132,10 @@ fn real_and_simulated_images_give_opencvs_keypoints_and_descriptors() {
     let images = fixture_images(&[(1024, 64), (1024, 128), (2048, 128), (512, 32), (2048, 64)]);
     assert_eq!(images.len(), 7 * 5);
     let found = check_equal(&images);
-    assert!(found > 500, "only {found} keypoints: the check would prove little");
+    assert!(
+        found > 500,
+        "only {found} keypoints: the check would prove little"
+    );
 }
 
 #[test]
@@ -141,7 +152,10 @@ fn keypoints_of_levels_a_pruned_akaze_lacks_are_described_by_the_full_one() {
         .into_iter()
         .filter(|k| k.y < 64.0 && k.class_id < 4)
         .collect();
-    assert!(k.iter().any(|k| k.class_id > 0), "no keypoint above level 0");
+    assert!(
+        k.iter().any(|k| k.class_id > 0),
+        "no keypoint above level 0"
+    );
     let mut want_k = k.clone();
     let want = Descriptor::describe(&mut opencv, &short, &mut want_k).unwrap();
     let got = keylo_descriptor().describe(&short, &mut k).unwrap();
@@ -159,7 +173,10 @@ fn the_papers_real_images_give_opencvs_keypoints_and_descriptors() {
     let images: Vec<(String, Image)> = (0..600)
         .map(|i| {
             let path = dir.join(format!("image_{i:04}.png"));
-            (path.display().to_string(), image(&read_png(&path), 1024, 64))
+            (
+                path.display().to_string(),
+                image(&read_png(&path), 1024, 64),
+            )
         })
         .collect();
     let found = check_equal(&images);

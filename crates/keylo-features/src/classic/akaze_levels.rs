@@ -35,9 +35,7 @@ pub(crate) struct Level {
 impl Level {
     /// Whether OpenCV's extremum search visits any pixel of this level.
     pub fn searchable(&self) -> bool {
-        self.border + 1 < self.rows
-            && 2 * self.border < self.rows
-            && 2 * self.border < self.cols
+        self.border + 1 < self.rows && 2 * self.border < self.rows && 2 * self.border < self.cols
     }
 }
 
@@ -66,8 +64,7 @@ pub(crate) fn levels(
             break;
         }
         for j in 0..n_layers.max(0) {
-            let esigma =
-                SIGMA_OFFSET * 2.0f32.powf(j as f32 / n_layers as f32 + octave as f32);
+            let esigma = SIGMA_OFFSET * 2.0f32.powf(j as f32 / n_layers as f32 + octave as f32);
             let sigma_size = cv_round(esigma * DERIVATIVE_FACTOR / power as f32);
             out.push(Level {
                 octave,

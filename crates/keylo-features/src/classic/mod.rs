@@ -111,14 +111,40 @@ pub fn register(registry: &mut Registry) {
         "KAZE float descriptor (OpenCV; needs KAZE keypoints)",
     );
     add_descriptor::<OrbParams>(registry, "ORB (oriented BRIEF) binary descriptor (OpenCV)");
+    register_surf(registry);
+}
+
+#[cfg(feature = "nonfree")]
+fn register_surf(registry: &mut Registry) {
+    use crate::native::surf::Surf;
+    let kind = <SurfParams as keylo_core::config::StageParams>::KIND;
     registry.detectors.add::<SurfParams>(
-        <SurfParams as keylo_core::config::StageParams>::KIND,
-        "SURF (needs OpenCV's non-free xfeatures2d, absent from Debian's OpenCV)",
+        kind,
+        "SURF keypoints (native, OpenCV's layout; cargo feature `nonfree`)",
+        |p, _| Ok(Box::new(Surf::new(&p).map_err(|e| e.in_stage("detector"))?)),
+    );
+    registry.descriptors.add::<SurfParams>(
+        kind,
+        "SURF 64-d float descriptor (native; cargo feature `nonfree`)",
+        |p, _| {
+            Ok(Box::new(
+                Surf::new(&p).map_err(|e| e.in_stage("descriptor"))?,
+            ))
+        },
+    );
+}
+
+#[cfg(not(feature = "nonfree"))]
+fn register_surf(registry: &mut Registry) {
+    let kind = <SurfParams as keylo_core::config::StageParams>::KIND;
+    registry.detectors.add::<SurfParams>(
+        kind,
+        "SURF (needs the cargo feature `nonfree`)",
         |_, _| Err(surf::unavailable().in_stage("detector")),
     );
     registry.descriptors.add::<SurfParams>(
-        <SurfParams as keylo_core::config::StageParams>::KIND,
-        "SURF descriptor (needs OpenCV's non-free xfeatures2d, absent from Debian's OpenCV)",
+        kind,
+        "SURF descriptor (needs the cargo feature `nonfree`)",
         |_, _| Err(surf::unavailable().in_stage("descriptor")),
     );
 }

@@ -1,11 +1,13 @@
-//! `surf`: needs OpenCV's non-free xfeatures2d module, which Debian's OpenCV lacks.
+//! `surf`'s settings. The detector and descriptor are keylo's own
+//! (`native::surf`, cargo feature `nonfree`); without the feature the kind says how to get it.
 
 use serde::{Deserialize, Serialize};
 
+#[cfg(not(feature = "nonfree"))]
 use crate::FeaturesError;
 
-/// `[detector]`/`[descriptor] kind = "surf"` (OpenCV's defaults). Accepted by the config
-/// so that it can say why SURF is unavailable in this build.
+/// `[detector]`/`[descriptor] kind = "surf"` (OpenCV's defaults). Without the cargo feature
+/// `nonfree` it is accepted by the config so that it can say why SURF is unavailable.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct SurfParams {
@@ -19,6 +21,8 @@ pub struct SurfParams {
     pub extended: bool,
     /// No orientation.
     pub upright: bool,
+    /// As a detector: also compute descriptors in the same pass.
+    pub describe: bool,
 }
 
 impl Default for SurfParams {
@@ -29,19 +33,19 @@ impl Default for SurfParams {
             n_octave_layers: 3,
             extended: false,
             upright: false,
+            describe: false,
         }
     }
 }
 
-/// The error every SURF construction returns in this build.
+/// The error every SURF construction returns in a build without the feature `nonfree`.
+#[cfg(not(feature = "nonfree"))]
 pub fn unavailable() -> FeaturesError {
-    let version = opencv::core::get_version_string().unwrap_or_else(|_| "unknown".into());
-    FeaturesError::Unavailable(format!(
-        "SURF is not available: it lives in OpenCV's non-free `xfeatures2d` contrib module, \
-         which this keylo is not built with (OpenCV {version}; Debian's libopencv-dev has no \
-         xfeatures2d). To use SURF, build OpenCV with opencv_contrib \
-         (-DOPENCV_EXTRA_MODULES_PATH=<opencv_contrib>/modules -DOPENCV_ENABLE_NONFREE=ON) \
-         and add a SURF binding to keylo-features; or choose another detector \
-         (sift, akaze, orb, brisk, fast, shi-tomasi, harris, superpoint)"
-    ))
+    FeaturesError::Unavailable(
+        "SURF is not in this build: it is behind the cargo feature `nonfree` (SURF was \
+         patented; OpenCV too ships it only in its non-free build). Build keylo with \
+         `cargo build --release --features nonfree` (docs/keypoints.md, \"SURF\"), or choose \
+         another detector (sift, akaze, orb, brisk, fast, shi-tomasi, harris, superpoint)"
+            .into(),
+    )
 }

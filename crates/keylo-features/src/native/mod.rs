@@ -16,6 +16,8 @@ pub mod freak_pattern;
 mod input;
 pub mod integral;
 pub mod pairs_training;
+#[cfg(feature = "nonfree")]
+pub mod surf;
 #[cfg(test)]
 mod test_images;
 
