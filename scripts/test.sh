@@ -10,6 +10,9 @@ bash "$ROOT/scripts/setup-browser.sh"
 if command -v chromium >/dev/null 2>&1; then export KEYLO_REQUIRE_BROWSER=1; fi
 cd "$ROOT"
 cargo test --workspace --locked
+# SURF, behind the cargo feature `nonfree` (off by default; docs/keypoints.md, "SURF"): its
+# tests against OpenCV's own SURF (the golden fixture) and the kpeval combinations with it.
+cargo test --locked -p keylo-features --features nonfree --lib --test surf
 
 # The Python package and its pytest suite (docs/python.md).
 bash "$ROOT/scripts/python-test.sh"

@@ -74,11 +74,12 @@ impl Disc {
             return None;
         }
         let (mut best, mut best_x, mut best_y) = (0.0f32, 0.0f32, 0.0f32);
-        for centre in (0..360).step_by(SEARCH_STEP_DEG) {
+        for centre in (0..360i32).step_by(SEARCH_STEP_DEG) {
             let (mut sx, mut sy) = (0.0f32, 0.0f32);
             for &(vx, vy, angle) in &samples {
-                let d = (angle - centre as i32).abs();
-                if d < WINDOW_DEG / 2 || d > 360 - WINDOW_DEG / 2 {
+                let d = (angle - centre).abs();
+                // Within half the window of the centre, around the circle.
+                if !(WINDOW_DEG / 2..=360 - WINDOW_DEG / 2).contains(&d) {
                     sx += vx;
                     sy += vy;
                 }
