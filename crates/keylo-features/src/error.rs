@@ -10,7 +10,7 @@ pub enum FeaturesError {
         value: String,
         expected: String,
     },
-    /// A backend this build cannot offer (e.g. SURF without OpenCV's non-free xfeatures2d).
+    /// A backend this build cannot offer (e.g. SURF without the cargo feature `nonfree`).
     #[error("{0}")]
     Unavailable(String),
     /// An input (image, keypoints, frame) the stage cannot use.

@@ -15,7 +15,7 @@ pub struct EvalOptions<'a> {
     /// Detector groups evaluated at a time (each on one thread; OpenCV's own threading is
     /// turned off when more than one, so the threads do not compete).
     pub jobs: usize,
-    /// Skip combinations this build cannot construct (SURF without xfeatures2d) instead of
+    /// Skip combinations this build cannot construct (SURF without the feature `nonfree`) instead of
     /// failing.
     pub skip_unavailable: bool,
     /// Called with (images done, images in all) as groups advance.

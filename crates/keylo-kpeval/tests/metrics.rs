@@ -171,7 +171,7 @@ fn too_few_images_and_an_unbuildable_named_combination_are_errors() {
     let e = evaluate(&planes, &combos, &spec, &r, &BuildContext::default(), &opts)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("SURF_SURF") && e.contains("xfeatures2d"), "{e}");
+    assert!(e.contains("SURF_SURF") && e.contains("nonfree"), "{e}");
 }
 
 #[test]

@@ -2,10 +2,16 @@
 //!
 //! Each bit compares the smoothed intensities of two points of a 48×48 patch around the
 //! keypoint: 1 when the first is darker. Smoothing is a 9×9 box sum from an integral image
-//! (the approximation of the paper's Gaussian that OpenCV's BRIEF also uses). The test pairs
-//! are sampled once, at construction, from an isotropic Gaussian (`σ² = S²/25`, `S = 48`, the
-//! paper's best "G II" layout), rounded to whole pixels and clipped to `[-24, 24]`, by our own
-//! fixed-seed generator ([`test_pairs`]); so every run and machine gets the same pattern.
+//! (the approximation of the paper's Gaussian that OpenCV's BRIEF also uses). Two test
+//! patterns, both from the paper's best "G II" layout (isotropic Gaussian, `σ² = S²/25`,
+//! `S = 48`):
+//! - `opencv` (default): OpenCV contrib's own pattern ([`super::brief_opencv`], measured from
+//!   its behaviour), so the descriptors are OpenCV's bit for bit, as the paper's authors had;
+//! - `gaussian`: keylo's own draw, by a fixed-seed generator ([`test_pairs`]).
+//!
+//! Keypoints are placed as OpenCV places them: dropped when their rounded position is within
+//! 28 pixels of a border; with `use_orientation`, each test offset turned by the keypoint's
+//! angle, truncated to whole pixels and clamped to the patch.
 
 use keylo_core::{CoreError, Descriptor, Descriptors, Image, Keypoint};
 use rand::RngCore;
@@ -26,8 +32,21 @@ pub const SEED: u64 = 0x6b65_796c_6f42_5246;
 
 const HALF_PATCH: i32 = PATCH_SIZE / 2;
 const HALF_KERNEL: i32 = KERNEL_SIZE / 2;
-/// Keypoints nearer than this to a border (unoriented) cannot be described.
+/// Keypoints nearer than this to a border are not described.
 const BORDER: i32 = HALF_PATCH + HALF_KERNEL;
+
+/// Which test pattern `brief` uses.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum BriefPattern {
+    /// OpenCV contrib's pattern: OpenCV's descriptors bit for bit.
+    #[default]
+    Opencv,
+    /// keylo's own fixed-seed Gaussian draw.
+    Gaussian,
+}
 
 /// `[descriptor] kind = "brief"` (the defaults of OpenCV contrib's `BriefDescriptorExtractor`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -35,9 +54,11 @@ const BORDER: i32 = HALF_PATCH + HALF_KERNEL;
 pub struct BriefParams {
     /// Descriptor length in bytes: 16, 32 or 64 (128, 256 or 512 tests).
     pub bytes: usize,
-    /// Rotate the test pattern by each keypoint's angle (keypoints without an angle, -1, are
-    /// described unrotated).
+    /// Rotate the test pattern by each keypoint's angle (as OpenCV: every keypoint, an angle
+    /// of -1 included).
     pub use_orientation: bool,
+    /// `opencv` (OpenCV contrib's test pattern) or `gaussian` (keylo's own draw).
+    pub pattern: BriefPattern,
 }
 
 impl Default for BriefParams {
@@ -45,6 +66,7 @@ impl Default for BriefParams {
         Self {
             bytes: 32,
             use_orientation: false,
+            pattern: BriefPattern::Opencv,
         }
     }
 }
@@ -117,7 +139,16 @@ impl Brief {
         Ok(Self {
             bytes: params.bytes,
             use_orientation: params.use_orientation,
-            pairs: test_pairs(params.bytes * 8, SEED),
+            pairs: match params.pattern {
+                BriefPattern::Opencv => super::brief_opencv::PAIRS[..params.bytes * 8]
+                    .iter()
+                    .map(|&[ax, ay, bx, by]| TestPair {
+                        a: (i32::from(ax), i32::from(ay)),
+                        b: (i32::from(bx), i32::from(by)),
+                    })
+                    .collect(),
+                BriefPattern::Gaussian => test_pairs(params.bytes * 8, SEED),
+            },
             upright: Vec::new(),
             upright_width: 0,
             turned: Vec::with_capacity(params.bytes * 8),
@@ -129,41 +160,37 @@ impl Brief {
         &self.pairs
     }
 
-    /// `kp`'s pixel index and its tests' offsets (turned when configured), or `None` when a
-    /// box leaves the `w × h` image.
+    /// `kp`'s pixel index and its tests' offsets (turned when configured), or `None` when it
+    /// lies within `BORDER` of an edge of the `w × h` image. As OpenCV: the border test on the
+    /// position rounded half to even, the tests around it rounded half up.
     fn place(&mut self, kp: &Keypoint, w: i32, h: i32) -> Option<(usize, &[[isize; 2]])> {
-        // Rounded (`as` truncates; a negative position fails the border checks either way).
+        let (bx, by) = (kp.x.round_ties_even(), kp.y.round_ties_even());
+        let border = BORDER as f32;
+        if !(bx >= border && by >= border && bx < (w - BORDER) as f32 && by < (h - BORDER) as f32) {
+            return None;
+        }
         let (x, y) = ((kp.x + 0.5) as i32, (kp.y + 0.5) as i32);
         let width = w as isize;
         let entry = (y as isize * width + x as isize) as usize;
-        if !self.use_orientation || kp.angle < 0.0 {
-            let ok = x >= BORDER && y >= BORDER && x < w - BORDER && y < h - BORDER;
-            return ok.then_some((entry, self.upright.as_slice()));
+        if !self.use_orientation {
+            return Some((entry, self.upright.as_slice()));
         }
-        let inside = |(dx, dy): (i32, i32)| {
-            let (px, py) = (x + dx, y + dy);
-            px >= HALF_KERNEL && py >= HALF_KERNEL && px < w - HALF_KERNEL && py < h - HALF_KERNEL
-        };
-        let (s, c) = kp.angle.to_radians().sin_cos();
+        let angle = kp.angle * (std::f64::consts::PI / 180.0) as f32;
+        let (s, c) = (angle.sin(), angle.cos());
         let turn = |(dx, dy): (i32, i32)| {
             let (dx, dy) = (dx as f32, dy as f32);
-            (
-                (c * dx - s * dy).round() as i32,
-                (s * dx + c * dy).round() as i32,
-            )
+            let clamp = |v: f32| (v as i32).clamp(-HALF_PATCH, HALF_PATCH);
+            (clamp(dx * c - dy * s), clamp(dx * s + dy * c))
         };
         self.turned.clear();
         for p in &self.pairs {
-            let (a, b) = (turn(p.a), turn(p.b));
-            if !inside(a) || !inside(b) {
-                return None;
-            }
-            self.turned.push([offset(a, width), offset(b, width)]);
+            self.turned
+                .push([offset(turn(p.a), width), offset(turn(p.b), width)]);
         }
         Some((entry, self.turned.as_slice()))
     }
 
-    /// Descriptors of `keypoints`, dropping those whose tests leave the image.
+    /// Descriptors of `keypoints`, dropping those too close to a border.
     pub fn compute(
         &mut self,
         image: &Image,

@@ -2,7 +2,8 @@
 //! Calonder et al. 2010) and `freak` (FREAK, Alahi et al. 2012), written from the papers.
 //!
 //! - [`integral`]: integral image, box sums and area-weighted means.
-//! - [`brief`]: BRIEF; test pairs from a fixed-seed Gaussian ([`brief::test_pairs`]).
+//! - [`brief`]: BRIEF; OpenCV contrib's test pattern ([`brief_opencv`]) or keylo's own
+//!   fixed-seed Gaussian draw ([`brief::test_pairs`]).
 //! - [`freak_pattern`]: the 43-field retina pattern and its pair tables.
 //! - [`freak`]: FREAK; [`freak_pairs`] holds the 512 pairs [`pairs_training`] selected.
 //!
@@ -10,6 +11,7 @@
 //! FREAK".
 
 pub mod brief;
+pub mod brief_opencv;
 pub mod freak;
 pub mod freak_pairs;
 pub mod freak_pattern;
@@ -21,7 +23,7 @@ pub mod surf;
 #[cfg(test)]
 mod test_images;
 
-pub use brief::{Brief, BriefParams};
+pub use brief::{Brief, BriefParams, BriefPattern};
 pub use freak::{Freak, FreakParams};
 pub use integral::Integral;
 
@@ -35,7 +37,7 @@ keylo_core::stage_params!(FreakParams => "freak" as DescriptorParams);
 pub fn register(registry: &mut Registry) {
     registry.descriptors.add::<BriefParams>(
         BriefParams::KIND,
-        "BRIEF binary descriptor (native; fixed-seed Gaussian test pairs)",
+        "BRIEF binary descriptor (native; OpenCV contrib's test pattern by default)",
         |p, _| {
             Ok(Box::new(
                 Brief::new(&p).map_err(|e| e.in_stage("descriptor"))?,

@@ -1,0 +1,116 @@
+//! keylo's native `brief` against OpenCV contrib's BRIEF on the same keypoints of the
+//! committed real and simulated images (golden fixture `tests/fixtures/brief_freak/golden.json`,
+//! made by `scripts/peers/brief_freak_golden.py` with opencv-contrib-python 4.14): the same
+//! keypoints kept and the same descriptors, bit for bit, upright and oriented.
+
+use std::path::{Path, PathBuf};
+
+use keylo_core::{Channel, DescriptorData, Descriptors, Image, Keypoint, Registry};
+use keylo_features::image::{resize_plane, Interpolation};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn golden() -> serde_json::Value {
+    let path = root().join("tests/fixtures/brief_freak/golden.json");
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn image(path: &Path) -> Image {
+    let file = std::fs::File::open(path).unwrap();
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let (rows, cols) = (info.height as usize, info.width as usize);
+    let mut img = Image::new_gray(1024, 64, Channel::Signal);
+    img.data = resize_plane(
+        &buf[..rows * cols],
+        rows,
+        cols,
+        1024,
+        64,
+        Interpolation::Linear,
+    )
+    .unwrap();
+    img
+}
+
+/// The fixture's keypoints, each tagged with its index in `class_id`.
+fn keypoints(v: &serde_json::Value) -> Vec<Keypoint> {
+    let rows = v.as_array().unwrap();
+    rows.iter()
+        .enumerate()
+        .map(|(i, k)| {
+            let f = |j: usize| k[j].as_f64().unwrap() as f32;
+            Keypoint {
+                x: f(0),
+                y: f(1),
+                size: f(2),
+                angle: f(3),
+                response: f(4),
+                octave: k[5].as_i64().unwrap() as i32,
+                class_id: i as i32,
+            }
+        })
+        .collect()
+}
+
+fn describe(params: &str, img: &Image, kps: &mut Vec<Keypoint>) -> Descriptors {
+    let mut r = Registry::default();
+    keylo_features::register(&mut r);
+    let f = r.descriptors.get("brief").unwrap();
+    let table: toml::Table = params.parse().unwrap();
+    let mut d = f
+        .build(&f.resolve(&table).unwrap(), &Default::default())
+        .unwrap();
+    d.describe(img, kps).unwrap()
+}
+
+fn hex_rows(d: &Descriptors) -> Vec<String> {
+    let DescriptorData::Binary(b) = &d.data else {
+        panic!("BRIEF is binary")
+    };
+    b.chunks(d.dim)
+        .map(|r| r.iter().map(|v| format!("{v:02x}")).collect())
+        .collect()
+}
+
+#[test]
+fn brief_is_opencv_contribs_bit_for_bit() {
+    let g = golden();
+    let mut described = 0;
+    for (name, sets) in g["images"].as_object().unwrap() {
+        let img = image(&root().join(name));
+        for set in ["fast", "orb"] {
+            for (variant, params) in [("brief", ""), ("brief_oriented", "use_orientation = true")] {
+                let want = &sets[set][variant];
+                let mut kps = keypoints(&sets[set]["keypoints"]);
+                let d = describe(params, &img, &mut kps);
+                let kept: Vec<i64> = kps.iter().map(|k| i64::from(k.class_id)).collect();
+                let want_kept: Vec<i64> = want["kept"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|v| v.as_i64().unwrap())
+                    .collect();
+                assert_eq!(kept, want_kept, "{name} {set} {variant}: keypoints kept");
+                let want_rows: Vec<String> = want["descriptors"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|v| v.as_str().unwrap().to_string())
+                    .collect();
+                assert_eq!(
+                    hex_rows(&d),
+                    want_rows,
+                    "{name} {set} {variant}: descriptors"
+                );
+                described += kps.len();
+            }
+        }
+    }
+    assert!(described > 1000, "{described} descriptors");
+}
