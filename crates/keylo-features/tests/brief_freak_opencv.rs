@@ -1,7 +1,8 @@
-//! keylo's native `brief` against OpenCV contrib's BRIEF on the same keypoints of the
+//! keylo's native `brief` and `freak` against OpenCV contrib's on the same keypoints of the
 //! committed real and simulated images (golden fixture `tests/fixtures/brief_freak/golden.json`,
 //! made by `scripts/peers/brief_freak_golden.py` with opencv-contrib-python 4.14): the same
-//! keypoints kept and the same descriptors, bit for bit, upright and oriented.
+//! keypoints kept, the same descriptors bit for bit (BRIEF upright and oriented), and FREAK's
+//! angles.
 
 use std::path::{Path, PathBuf};
 
@@ -58,10 +59,10 @@ fn keypoints(v: &serde_json::Value) -> Vec<Keypoint> {
         .collect()
 }
 
-fn describe(params: &str, img: &Image, kps: &mut Vec<Keypoint>) -> Descriptors {
+fn describe(kind: &str, params: &str, img: &Image, kps: &mut Vec<Keypoint>) -> Descriptors {
     let mut r = Registry::default();
     keylo_features::register(&mut r);
-    let f = r.descriptors.get("brief").unwrap();
+    let f = r.descriptors.get(kind).unwrap();
     let table: toml::Table = params.parse().unwrap();
     let mut d = f
         .build(&f.resolve(&table).unwrap(), &Default::default())
@@ -71,7 +72,7 @@ fn describe(params: &str, img: &Image, kps: &mut Vec<Keypoint>) -> Descriptors {
 
 fn hex_rows(d: &Descriptors) -> Vec<String> {
     let DescriptorData::Binary(b) = &d.data else {
-        panic!("BRIEF is binary")
+        panic!("binary descriptors expected")
     };
     b.chunks(d.dim)
         .map(|r| r.iter().map(|v| format!("{v:02x}")).collect())
@@ -88,7 +89,7 @@ fn brief_is_opencv_contribs_bit_for_bit() {
             for (variant, params) in [("brief", ""), ("brief_oriented", "use_orientation = true")] {
                 let want = &sets[set][variant];
                 let mut kps = keypoints(&sets[set]["keypoints"]);
-                let d = describe(params, &img, &mut kps);
+                let d = describe("brief", params, &img, &mut kps);
                 let kept: Vec<i64> = kps.iter().map(|k| i64::from(k.class_id)).collect();
                 let want_kept: Vec<i64> = want["kept"]
                     .as_array()
@@ -113,4 +114,36 @@ fn brief_is_opencv_contribs_bit_for_bit() {
         }
     }
     assert!(described > 1000, "{described} descriptors");
+}
+
+#[test]
+fn freak_is_opencv_contribs_bit_for_bit() {
+    let g = golden();
+    let mut described = 0;
+    for (name, sets) in g["images"].as_object().unwrap() {
+        let img = image(&root().join(name));
+        for set in ["fast", "orb"] {
+            let want = &sets[set]["freak"];
+            let given = keypoints(&sets[set]["keypoints"]);
+            let mut kps = given.clone();
+            let d = describe("freak", "", &img, &mut kps);
+            let kept: Vec<i64> = kps.iter().map(|k| i64::from(k.class_id)).collect();
+            let want_kept: Vec<i64> = want["kept"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_i64().unwrap())
+                .collect();
+            assert_eq!(kept, want_kept, "{name} {set}: keypoints kept");
+            let want_rows: Vec<String> = want["descriptors"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_str().unwrap().to_string())
+                .collect();
+            assert_eq!(hex_rows(&d), want_rows, "{name} {set}: descriptors");
+            described += kps.len();
+        }
+    }
+    assert!(described > 800, "{described} descriptors");
 }

@@ -1,6 +1,7 @@
 //! `freak`: the FREAK binary descriptor (Alahi, Ortiz, Vandergheynst, CVPR 2012), native.
 //!
-//! The retina pattern ([`super::freak_pattern`]) is scaled by `pattern_scale` × the keypoint's
+//! With `pattern = "opencv"` (default) it is OpenCV contrib's FREAK bit for bit
+//! ([`super::freak_cv`]). With `pattern = "trained"`, keylo's own: the retina pattern ([`super::freak_pattern`]) is scaled by `pattern_scale` × the keypoint's
 //! scale (its size / 7, within `n_octaves` octaves, when `scale_normalized`), each receptive
 //! field is averaged over its square from an integral image (the nearest whole-pixel square for
 //! fields of half-width ≥ 1.5 px, area-weighted for smaller ones), the orientation
@@ -11,12 +12,13 @@
 use keylo_core::{CoreError, Descriptor, Descriptors, Image, Keypoint};
 use serde::{Deserialize, Serialize};
 
+use super::freak_cv::CvFreak;
 use super::freak_pairs::SELECTED_PAIRS;
 use super::freak_pattern::{
     extent, orientation_pairs, retina, Field, DESCRIPTOR_PAIRS, FIELDS, ORIENTATION_PAIRS,
     SMALLEST_KEYPOINT_SIZE,
 };
-use super::input::{binary, one_plane};
+use super::input::{binary, one_plane, Plane};
 use super::Integral;
 use crate::{check, FeaturesError};
 
@@ -44,6 +46,22 @@ pub struct FreakParams {
     pub pattern_scale: f32,
     /// Octaves of keypoint scale covered: scales are clamped to `1 ..= 2^n_octaves`.
     pub n_octaves: i32,
+    /// `opencv` (OpenCV contrib's FREAK, bit for bit) or `trained` (keylo's own sampling and
+    /// its own 512 pairs, trained on LiDAR images).
+    pub pattern: FreakPattern,
+}
+
+/// Which FREAK `freak` computes.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum FreakPattern {
+    /// OpenCV contrib's: its quantised pattern, integer field means and its 512 pairs.
+    #[default]
+    Opencv,
+    /// keylo's own: continuous scales and angles, float means, pairs trained on LiDAR images.
+    Trained,
 }
 
 impl Default for FreakParams {
@@ -53,6 +71,7 @@ impl Default for FreakParams {
             scale_normalized: true,
             pattern_scale: 22.0,
             n_octaves: 4,
+            pattern: FreakPattern::Opencv,
         }
     }
 }
@@ -60,6 +79,7 @@ impl Default for FreakParams {
 /// The native FREAK descriptor.
 pub struct Freak {
     params: FreakParams,
+    opencv: Option<CvFreak>,
     fields: [Field; FIELDS],
     orientation: [(usize, usize, f32, f32); ORIENTATION_PAIRS],
 }
@@ -90,8 +110,17 @@ impl Freak {
             let n = (dx * dx + dy * dy).sqrt();
             (i as usize, j as usize, dx / n, dy / n)
         });
+        let opencv = (params.pattern == FreakPattern::Opencv).then(|| {
+            CvFreak::new(
+                params.pattern_scale,
+                params.n_octaves,
+                params.scale_normalized,
+                params.orientation_normalized,
+            )
+        });
         Ok(Self {
             params: params.clone(),
+            opencv,
             fields,
             orientation,
         })
@@ -178,6 +207,11 @@ impl Freak {
         one_plane("freak", image)?;
         let sat = Integral::new(image);
         let mut data = Vec::with_capacity(keypoints.len() * FREAK_BYTES);
+        if let Some(cv) = &self.opencv {
+            let plane = Plane::of(image);
+            keypoints.retain_mut(|kp| cv.describe(&plane, &sat, kp, &mut data));
+            return Ok(binary(FREAK_BYTES, data));
+        }
         keypoints.retain_mut(|kp| {
             let Some(v) = self.field_values(&sat, kp) else {
                 return false;
@@ -218,8 +252,14 @@ mod tests {
         }
     }
 
+    /// keylo's own FREAK (`pattern = "trained"`); OpenCV's is held to OpenCV's output in
+    /// `tests/brief_freak_opencv.rs`.
     fn describe(params: &FreakParams, img: &Image, kps: &mut Vec<Keypoint>) -> Descriptors {
-        Freak::new(params).unwrap().compute(img, kps).unwrap()
+        let params = FreakParams {
+            pattern: FreakPattern::Trained,
+            ..params.clone()
+        };
+        Freak::new(&params).unwrap().compute(img, kps).unwrap()
     }
 
     #[test]

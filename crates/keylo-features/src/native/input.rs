@@ -35,3 +35,28 @@ pub(crate) fn binary(bytes: usize, data: Vec<u8>) -> Descriptors {
         data: DescriptorData::Binary(data),
     }
 }
+
+/// A grey image's plane 0 borrowed as rows.
+pub(crate) struct Plane<'a> {
+    pub data: &'a [u8],
+    pub width: usize,
+    pub height: usize,
+    pub stride: usize,
+}
+
+impl<'a> Plane<'a> {
+    /// Plane 0 of a one-plane `image`.
+    pub fn of(image: &'a Image) -> Self {
+        Self {
+            data: &image.data,
+            width: image.width,
+            height: image.height,
+            stride: image.stride,
+        }
+    }
+
+    #[inline]
+    pub fn at(&self, x: usize, y: usize) -> u8 {
+        self.data[y * self.stride + x]
+    }
+}

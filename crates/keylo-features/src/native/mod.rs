@@ -5,7 +5,8 @@
 //! - [`brief`]: BRIEF; OpenCV contrib's test pattern ([`brief_opencv`]) or keylo's own
 //!   fixed-seed Gaussian draw ([`brief::test_pairs`]).
 //! - [`freak_pattern`]: the 43-field retina pattern and its pair tables.
-//! - [`freak`]: FREAK; [`freak_pairs`] holds the 512 pairs [`pairs_training`] selected.
+//! - [`freak`]: FREAK: OpenCV contrib's (`freak_cv`, tables in [`freak_opencv`]) or keylo's
+//!   own, whose 512 pairs ([`freak_pairs`]) [`pairs_training`] selected.
 //!
 //! Sampling patterns, seeds and the training command: `docs/keypoints.md`, "Native BRIEF and
 //! FREAK".
@@ -13,6 +14,8 @@
 pub mod brief;
 pub mod brief_opencv;
 pub mod freak;
+mod freak_cv;
+pub mod freak_opencv;
 pub mod freak_pairs;
 pub mod freak_pattern;
 mod input;
@@ -24,7 +27,7 @@ pub mod surf;
 mod test_images;
 
 pub use brief::{Brief, BriefParams, BriefPattern};
-pub use freak::{Freak, FreakParams};
+pub use freak::{Freak, FreakParams, FreakPattern};
 pub use integral::Integral;
 
 use keylo_core::config::StageParams;
@@ -46,7 +49,7 @@ pub fn register(registry: &mut Registry) {
     );
     registry.descriptors.add::<FreakParams>(
         FreakParams::KIND,
-        "FREAK binary descriptor (native; retina pattern, trained pairs)",
+        "FREAK binary descriptor (native; OpenCV contrib's by default)",
         |p, _| {
             Ok(Box::new(
                 Freak::new(&p).map_err(|e| e.in_stage("descriptor"))?,

@@ -8,6 +8,7 @@ use opencv::prelude::*;
 
 use super::haar::round_even;
 use super::orientation::gaussian;
+use crate::native::input::Plane;
 use crate::FeaturesError;
 
 /// Cells per side of the resampled window.
@@ -20,21 +21,6 @@ const EXTENDED: usize = 8;
 /// The descriptor of a keypoint; holds the cell weights.
 pub(crate) struct Describer {
     weights: Vec<f32>,
-}
-
-/// A grey image borrowed as rows.
-pub(crate) struct Plane<'a> {
-    pub data: &'a [u8],
-    pub width: usize,
-    pub height: usize,
-    pub stride: usize,
-}
-
-impl Plane<'_> {
-    #[inline]
-    fn at(&self, x: usize, y: usize) -> u8 {
-        self.data[y * self.stride + x]
-    }
 }
 
 impl Describer {

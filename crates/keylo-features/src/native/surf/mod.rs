@@ -17,10 +17,11 @@ mod orientation;
 use keylo_core::{CoreError, DescriptorData, Descriptors, Detector, Image, Keypoint};
 
 use super::input::one_plane;
+use super::input::Plane;
 use super::Integral;
 use crate::classic::SurfParams;
 use crate::FeaturesError;
-use descriptor::{Describer, Plane};
+use descriptor::Describer;
 use orientation::Disc;
 
 /// The direction an upright keypoint is given, degrees (OpenCV's).
@@ -79,12 +80,7 @@ impl Surf {
         keypoints: &mut Vec<Keypoint>,
         describe: bool,
     ) -> Result<Option<Descriptors>, FeaturesError> {
-        let plane = Plane {
-            data: &image.data,
-            width: image.width,
-            height: image.height,
-            stride: image.stride,
-        };
+        let plane = Plane::of(image);
         let mut values = Vec::new();
         let mut kept = Vec::with_capacity(keypoints.len());
         for mut k in keypoints.drain(..) {
