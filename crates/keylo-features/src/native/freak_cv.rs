@@ -17,8 +17,9 @@ const SCALES: usize = 64;
 const ORIENTATIONS: usize = 256;
 const FIELDS: usize = 43;
 const SMALLEST_KEYPOINT_SIZE: f32 = 7.0;
-/// ln 2 as OpenCV writes it, and ln 3 (the scale of every keypoint without scale
-/// normalisation: as if its size were 3 × 7 px).
+/// ln 2 as OpenCV writes it (15 digits, not `LN_2`), and ln 3 (the scale of every keypoint
+/// without scale normalisation: as if its size were 3 × 7 px).
+#[allow(clippy::approx_constant)]
 const LN2: f64 = 0.693147180559945;
 const LN3: f64 = 1.0986122886681;
 
