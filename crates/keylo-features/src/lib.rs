@@ -14,6 +14,8 @@ mod native_heap;
 pub mod neighbourhood;
 #[cfg(feature = "superpoint")]
 pub mod superpoint;
+#[cfg(feature = "superpoint")]
+pub mod xfeat;
 
 pub(crate) use error::check;
 pub use error::FeaturesError;
@@ -28,4 +30,6 @@ pub fn register(registry: &mut keylo_core::Registry) {
     budget::register(registry);
     #[cfg(feature = "superpoint")]
     superpoint::register(registry);
+    #[cfg(feature = "superpoint")]
+    xfeat::register(registry);
 }

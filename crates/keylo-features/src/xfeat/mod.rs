@@ -1,0 +1,185 @@
+//! `xfeat`: XFeat (Potje, Cadar, Araujo, Martins, Nascimento, "XFeat: Accelerated Features
+//! for Lightweight Image Matching", CVPR 2024) through ONNX Runtime: the authors' released
+//! weights (Apache-2.0), built into keylo ([`model::BUILTIN_MODEL`]); detector and 64-d
+//! descriptor, post-processed as the authors' `detectAndCompute` ([`decode`]).
+
+pub mod decode;
+mod model;
+mod params;
+
+pub use model::BUILTIN_MODEL;
+pub use params::XFeatParams;
+
+use keylo_core::config::StageParams;
+use keylo_core::{
+    BuildContext, CoreError, Descriptor, DescriptorData, Descriptors, Detector, Image, Keypoint,
+    Registry,
+};
+
+use decode::Map;
+use model::{Model, RawOutput};
+
+/// Descriptor length.
+const DIM: usize = 64;
+
+keylo_core::stage_params!(XFeatParams => "xfeat" as DetectorParams, DescriptorParams);
+
+/// XFeat as a keylo [`Detector`] and [`Descriptor`].
+pub struct XFeat {
+    params: XFeatParams,
+    model: Model,
+}
+
+impl XFeat {
+    /// Loads the model of `params` (a relative `model` path from the config's folder).
+    pub fn new(params: XFeatParams, ctx: &BuildContext) -> Result<Self, crate::FeaturesError> {
+        params.validate()?;
+        let path = (!params.model.is_empty()).then(|| ctx.base_dir.join(&params.model));
+        let model = Model::load(&params, path.as_deref())?;
+        Ok(Self { params, model })
+    }
+
+    /// The network's dense outputs for `image` (one plane, sides multiples of 32), its
+    /// descriptors already unit-normalised per cell.
+    fn dense(&self, image: &Image) -> Result<RawOutput, crate::FeaturesError> {
+        if image.channels != 1 {
+            return Err(crate::FeaturesError::BadInput(format!(
+                "`xfeat` needs a one-plane image; image `{}` has {} planes",
+                image.name(),
+                image.channels
+            )));
+        }
+        let (w, h) = (image.width, image.height);
+        if w % 32 != 0 || h % 32 != 0 || w == 0 || h == 0 {
+            return Err(crate::FeaturesError::BadInput(format!(
+                "`xfeat` needs image sides that are multiples of 32 (XFeat's backbone); image \
+                 `{}` is {w}×{h}: set [image] width/height (e.g. 1024×64)",
+                image.name()
+            )));
+        }
+        let grey: Vec<f32> = (0..h)
+            .flat_map(|y| image.data[y * image.stride..y * image.stride + w].iter())
+            .map(|&v| f32::from(v) / 255.0)
+            .collect();
+        let mut out = self.model.run(&grey, h, w)?;
+        decode::normalise_channels(&mut out.descriptors, DIM);
+        Ok(out)
+    }
+
+    /// Keypoints (best score first) and, when `describe`, their descriptors.
+    fn run(
+        &self,
+        image: &Image,
+        describe: bool,
+    ) -> Result<(Vec<Keypoint>, Option<Descriptors>), crate::FeaturesError> {
+        let out = self.dense(image)?;
+        let (w, h) = (image.width, image.height);
+        let heat = decode::heatmap(&out.logits, out.hc, out.wc);
+        let heat = Map {
+            data: &heat,
+            rows: h,
+            cols: w,
+        };
+        let reliability = Map {
+            data: &out.reliability,
+            rows: out.hc,
+            cols: out.wc,
+        };
+        let p = &self.params;
+        let mut scored: Vec<(f32, usize, usize)> =
+            decode::suppress(&heat, p.nms_kernel, p.detection_threshold)
+                .into_iter()
+                .map(|(x, y)| {
+                    let at = (x as f32, y as f32);
+                    let s = decode::nearest(&heat, at, w, h)
+                        * decode::bilinear(&reliability, at, w, h);
+                    (s, x, y)
+                })
+                .filter(|(s, _, _)| *s > 0.0)
+                .collect();
+        // Best first; ties in image order (the sort is stable).
+        scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+        if p.top_k > 0 {
+            scored.truncate(p.top_k);
+        }
+        let keypoints: Vec<Keypoint> = scored
+            .iter()
+            .map(|&(s, x, y)| Keypoint {
+                x: x as f32,
+                y: y as f32,
+                size: 8.0,
+                angle: -1.0,
+                response: s,
+                octave: 0,
+                class_id: -1,
+            })
+            .collect();
+        let descriptors = describe.then(|| self.sample(&out, &keypoints, w, h));
+        Ok((keypoints, descriptors))
+    }
+
+    /// The unit descriptors at `keypoints`.
+    fn sample(&self, out: &RawOutput, keypoints: &[Keypoint], w: usize, h: usize) -> Descriptors {
+        let mut data = Vec::with_capacity(keypoints.len() * DIM);
+        for k in keypoints {
+            let start = data.len();
+            decode::bicubic(
+                &out.descriptors,
+                DIM,
+                (out.hc, out.wc),
+                (k.x, k.y),
+                (w, h),
+                &mut data,
+            );
+            decode::normalise(&mut data[start..]);
+        }
+        Descriptors {
+            rows: keypoints.len(),
+            dim: DIM,
+            data: DescriptorData::Float(data),
+        }
+    }
+}
+
+impl Detector for XFeat {
+    fn detect(&mut self, image: &Image) -> Result<Vec<Keypoint>, CoreError> {
+        let (k, _) = self.run(image, false).map_err(|e| e.in_stage("detector"))?;
+        Ok(k)
+    }
+
+    fn detect_and_describe(
+        &mut self,
+        image: &Image,
+    ) -> Result<(Vec<Keypoint>, Option<Descriptors>), CoreError> {
+        self.run(image, self.params.describe)
+            .map_err(|e| e.in_stage("detector"))
+    }
+}
+
+impl Descriptor for XFeat {
+    /// Descriptors of any keypoints (inside the image), sampled from XFeat's dense map.
+    fn describe(
+        &mut self,
+        image: &Image,
+        keypoints: &mut Vec<Keypoint>,
+    ) -> Result<Descriptors, CoreError> {
+        let out = self.dense(image).map_err(|e| e.in_stage("descriptor"))?;
+        let (w, h) = (image.width as f32, image.height as f32);
+        keypoints.retain(|k| k.x >= 0.0 && k.y >= 0.0 && k.x < w && k.y < h);
+        Ok(self.sample(&out, keypoints, image.width, image.height))
+    }
+}
+
+/// Registers `xfeat` as a detector and a descriptor.
+pub fn register(registry: &mut Registry) {
+    registry.detectors.add::<XFeatParams>(
+        XFeatParams::KIND,
+        "XFeat keypoints (ONNX Runtime; the authors' weights, Apache-2.0, built in)",
+        |p, ctx| Ok(Box::new(XFeat::new(p, ctx).map_err(|e| e.in_stage("detector"))?)),
+    );
+    registry.descriptors.add::<XFeatParams>(
+        XFeatParams::KIND,
+        "XFeat 64-d float descriptor (ONNX Runtime; built-in model)",
+        |p, ctx| Ok(Box::new(XFeat::new(p, ctx).map_err(|e| e.in_stage("descriptor"))?)),
+    );
+}
