@@ -31,8 +31,15 @@ fn image() -> Image {
     let info = reader.next_frame(&mut buf).unwrap();
     let (rows, cols) = (info.height as usize, info.width as usize);
     let mut img = Image::new_gray(1024, 64, Channel::Signal);
-    img.data = resize_plane(&buf[..rows * cols], rows, cols, 1024, 64, Interpolation::Linear)
-        .unwrap();
+    img.data = resize_plane(
+        &buf[..rows * cols],
+        rows,
+        cols,
+        1024,
+        64,
+        Interpolation::Linear,
+    )
+    .unwrap();
     img
 }
 
@@ -54,13 +61,21 @@ fn keypoints_scores_and_descriptors_are_the_authors() {
         .collect();
     let edge = |(x, y): (f32, f32)| x == 1023.0 || y == 63.0;
     let want: Vec<(f32, f32)> = all.iter().map(|a| a.0).filter(|p| !edge(*p)).collect();
-    assert!(all.len() - want.len() < 20, "{} edge keypoints", all.len() - want.len());
+    assert!(
+        all.len() - want.len() < 20,
+        "{} edge keypoints",
+        all.len() - want.len()
+    );
     let got: Vec<(f32, f32)> = kps.iter().map(|k| (k.x, k.y)).collect();
     assert_eq!(got, want, "keypoints (x, y), best score first");
     let scores: Vec<f64> = all.iter().filter(|a| !edge(a.0)).map(|a| a.1).collect();
     for (k, s) in kps.iter().zip(&scores) {
         let s = *s as f32;
-        assert!((k.response - s).abs() <= 1e-5 * s.max(1e-3), "{} vs {s}", k.response);
+        assert!(
+            (k.response - s).abs() <= 1e-5 * s.max(1e-3),
+            "{} vs {s}",
+            k.response
+        );
     }
     let desc = desc.unwrap();
     assert_eq!((desc.rows, desc.dim), (kps.len(), 64));
@@ -85,20 +100,38 @@ fn keypoints_scores_and_descriptors_are_the_authors() {
         worst = worst.min(cos);
     }
     eprintln!("worst cosine to the authors' descriptors: {worst}");
-    assert!(worst > 0.98, "cosine to the authors' descriptors down to {worst}");
+    assert!(
+        worst > 0.98,
+        "cosine to the authors' descriptors down to {worst}"
+    );
     // The descriptor stage on the detector's keypoints gives the same rows.
     let mut again = kps.clone();
-    assert_eq!(Descriptor::describe(&mut x, &img, &mut again).unwrap(), desc);
+    assert_eq!(
+        Descriptor::describe(&mut x, &img, &mut again).unwrap(),
+        desc
+    );
 }
 
 #[test]
-fn sides_not_multiples_of_32_are_a_clear_error() {
+fn other_sizes_are_resized_as_xfeat_does_and_tiny_ones_refused() {
     let mut x = XFeat::new(XFeatParams::default(), &BuildContext::default()).unwrap();
+    // 1040 columns run at 1024 and come back in the image's pixels.
+    let mut wide = Image::new_gray(1040, 64, Channel::Signal);
+    let img = image();
+    for y in 0..64 {
+        wide.data[y * 1040..y * 1040 + 1024].copy_from_slice(&img.data[y * 1024..(y + 1) * 1024]);
+    }
+    let kps = x.detect(&wide).unwrap();
+    assert!(
+        kps.len() > 100 && kps.iter().all(|k| k.x < 1040.0),
+        "{}",
+        kps.len()
+    );
     let e = x
-        .detect(&Image::new_gray(1000, 64, Channel::Signal))
+        .detect(&Image::new_gray(1000, 16, Channel::Signal))
         .unwrap_err()
         .to_string();
-    assert!(e.contains("multiples of 32") && e.contains("1000"), "{e}");
+    assert!(e.contains("32×32") && e.contains("1000×16"), "{e}");
     let e = XFeat::new(
         XFeatParams {
             nms_kernel: 4,

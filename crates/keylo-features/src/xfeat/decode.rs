@@ -206,7 +206,10 @@ mod tests {
             cols: 2,
         };
         assert_eq!(nearest(&m, (0.0, 0.0), 16, 16), 1.0);
-        assert_eq!(nearest(&m, (15.0, 15.0), 16, 16), 4.0);
+        assert_eq!(nearest(&m, (14.0, 14.0), 16, 16), 4.0);
+        // The last pixel maps past the last cell's centre by half a cell: outside, as in
+        // PyTorch's grid_sample (zeros).
+        assert_eq!(nearest(&m, (15.0, 15.0), 16, 16), 0.0);
         let mid = bilinear(&m, (7.5, 7.5), 16, 16);
         assert!((mid - 2.5).abs() < 1e-5, "{mid}");
         let mut out = Vec::new();

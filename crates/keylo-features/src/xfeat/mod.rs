@@ -39,9 +39,11 @@ impl XFeat {
         Ok(Self { params, model })
     }
 
-    /// The network's dense outputs for `image` (one plane, sides multiples of 32), its
-    /// descriptors already unit-normalised per cell.
-    fn dense(&self, image: &Image) -> Result<RawOutput, crate::FeaturesError> {
+    /// The network's dense outputs for `image` (one plane), its descriptors already
+    /// unit-normalised per cell. As XFeat's `preprocess_tensor`, an image whose sides are not
+    /// multiples of 32 is resized (bilinear) down to the nearest ones; the returned [`Frame`]
+    /// says by how much.
+    fn dense(&self, image: &Image) -> Result<(RawOutput, Frame), crate::FeaturesError> {
         if image.channels != 1 {
             return Err(crate::FeaturesError::BadInput(format!(
                 "`xfeat` needs a one-plane image; image `{}` has {} planes",
@@ -50,10 +52,11 @@ impl XFeat {
             )));
         }
         let (w, h) = (image.width, image.height);
-        if w % 32 != 0 || h % 32 != 0 || w == 0 || h == 0 {
+        let (w32, h32) = (w / 32 * 32, h / 32 * 32);
+        if w32 == 0 || h32 == 0 {
             return Err(crate::FeaturesError::BadInput(format!(
-                "`xfeat` needs image sides that are multiples of 32 (XFeat's backbone); image \
-                 `{}` is {w}×{h}: set [image] width/height (e.g. 1024×64)",
+                "`xfeat` needs images of at least 32×32 pixels (XFeat's backbone); image `{}` \
+                 is {w}×{h}",
                 image.name()
             )));
         }
@@ -61,9 +64,20 @@ impl XFeat {
             .flat_map(|y| image.data[y * image.stride..y * image.stride + w].iter())
             .map(|&v| f32::from(v) / 255.0)
             .collect();
-        let mut out = self.model.run(&grey, h, w)?;
+        let grey = if (w32, h32) == (w, h) {
+            grey
+        } else {
+            resize_bilinear(&grey, (w, h), (w32, h32))?
+        };
+        let mut out = self.model.run(&grey, h32, w32)?;
         decode::normalise_channels(&mut out.descriptors, DIM);
-        Ok(out)
+        let frame = Frame {
+            w: w32,
+            h: h32,
+            sx: w as f32 / w32 as f32,
+            sy: h as f32 / h32 as f32,
+        };
+        Ok((out, frame))
     }
 
     /// Keypoints (best score first) and, when `describe`, their descriptors.
@@ -72,8 +86,8 @@ impl XFeat {
         image: &Image,
         describe: bool,
     ) -> Result<(Vec<Keypoint>, Option<Descriptors>), crate::FeaturesError> {
-        let out = self.dense(image)?;
-        let (w, h) = (image.width, image.height);
+        let (out, frame) = self.dense(image)?;
+        let (w, h) = (frame.w, frame.h);
         let heat = decode::heatmap(&out.logits, out.hc, out.wc);
         let heat = Map {
             data: &heat,
@@ -91,8 +105,8 @@ impl XFeat {
                 .into_iter()
                 .map(|(x, y)| {
                     let at = (x as f32, y as f32);
-                    let s = decode::nearest(&heat, at, w, h)
-                        * decode::bilinear(&reliability, at, w, h);
+                    let s =
+                        decode::nearest(&heat, at, w, h) * decode::bilinear(&reliability, at, w, h);
                     (s, x, y)
                 })
                 .filter(|(s, _, _)| *s > 0.0)
@@ -102,11 +116,16 @@ impl XFeat {
         if p.top_k > 0 {
             scored.truncate(p.top_k);
         }
+        let at_network: Vec<(f32, f32)> = scored
+            .iter()
+            .map(|&(_, x, y)| (x as f32, y as f32))
+            .collect();
+        let descriptors = describe.then(|| self.sample(&out, &at_network, w, h));
         let keypoints: Vec<Keypoint> = scored
             .iter()
             .map(|&(s, x, y)| Keypoint {
-                x: x as f32,
-                y: y as f32,
+                x: x as f32 * frame.sx,
+                y: y as f32 * frame.sy,
                 size: 8.0,
                 angle: -1.0,
                 response: s,
@@ -114,31 +133,65 @@ impl XFeat {
                 class_id: -1,
             })
             .collect();
-        let descriptors = describe.then(|| self.sample(&out, &keypoints, w, h));
         Ok((keypoints, descriptors))
     }
 
-    /// The unit descriptors at `keypoints`.
-    fn sample(&self, out: &RawOutput, keypoints: &[Keypoint], w: usize, h: usize) -> Descriptors {
-        let mut data = Vec::with_capacity(keypoints.len() * DIM);
-        for k in keypoints {
+    /// The unit descriptors at `points` (in the network's `w × h` input).
+    fn sample(&self, out: &RawOutput, points: &[(f32, f32)], w: usize, h: usize) -> Descriptors {
+        let mut data = Vec::with_capacity(points.len() * DIM);
+        for &p in points {
             let start = data.len();
             decode::bicubic(
                 &out.descriptors,
                 DIM,
                 (out.hc, out.wc),
-                (k.x, k.y),
+                p,
                 (w, h),
                 &mut data,
             );
             decode::normalise(&mut data[start..]);
         }
         Descriptors {
-            rows: keypoints.len(),
+            rows: points.len(),
             dim: DIM,
             data: DescriptorData::Float(data),
         }
     }
+}
+
+/// The network's input size and the scale back to the image's pixels.
+struct Frame {
+    w: usize,
+    h: usize,
+    sx: f32,
+    sy: f32,
+}
+
+/// `grey` (`from` = width, height) resized bilinearly to `to` (pixel centres aligned, as
+/// PyTorch's `interpolate(..., align_corners=False)` and OpenCV's `INTER_LINEAR`).
+fn resize_bilinear(
+    grey: &[f32],
+    from: (usize, usize),
+    to: (usize, usize),
+) -> Result<Vec<f32>, crate::FeaturesError> {
+    use opencv::core::{Mat, Size};
+    use opencv::prelude::*;
+    let cv = |e: opencv::Error| crate::FeaturesError::opencv("xfeat resize", e);
+    let src = Mat::from_slice(grey)
+        .and_then(|m| m.reshape(1, from.1 as i32).and_then(|m| m.try_clone()))
+        .map_err(cv)?;
+    let mut dst = Mat::default();
+    let size = Size::new(to.0 as i32, to.1 as i32);
+    opencv::imgproc::resize(
+        &src,
+        &mut dst,
+        size,
+        0.0,
+        0.0,
+        opencv::imgproc::INTER_LINEAR,
+    )
+    .map_err(cv)?;
+    Ok(dst.data_typed::<f32>().map_err(cv)?.to_vec())
 }
 
 impl Detector for XFeat {
@@ -163,10 +216,14 @@ impl Descriptor for XFeat {
         image: &Image,
         keypoints: &mut Vec<Keypoint>,
     ) -> Result<Descriptors, CoreError> {
-        let out = self.dense(image).map_err(|e| e.in_stage("descriptor"))?;
+        let (out, frame) = self.dense(image).map_err(|e| e.in_stage("descriptor"))?;
         let (w, h) = (image.width as f32, image.height as f32);
         keypoints.retain(|k| k.x >= 0.0 && k.y >= 0.0 && k.x < w && k.y < h);
-        Ok(self.sample(&out, keypoints, image.width, image.height))
+        let points: Vec<(f32, f32)> = keypoints
+            .iter()
+            .map(|k| (k.x / frame.sx, k.y / frame.sy))
+            .collect();
+        Ok(self.sample(&out, &points, frame.w, frame.h))
     }
 }
 
@@ -175,11 +232,19 @@ pub fn register(registry: &mut Registry) {
     registry.detectors.add::<XFeatParams>(
         XFeatParams::KIND,
         "XFeat keypoints (ONNX Runtime; the authors' weights, Apache-2.0, built in)",
-        |p, ctx| Ok(Box::new(XFeat::new(p, ctx).map_err(|e| e.in_stage("detector"))?)),
+        |p, ctx| {
+            Ok(Box::new(
+                XFeat::new(p, ctx).map_err(|e| e.in_stage("detector"))?,
+            ))
+        },
     );
     registry.descriptors.add::<XFeatParams>(
         XFeatParams::KIND,
         "XFeat 64-d float descriptor (ONNX Runtime; built-in model)",
-        |p, ctx| Ok(Box::new(XFeat::new(p, ctx).map_err(|e| e.in_stage("descriptor"))?)),
+        |p, ctx| {
+            Ok(Box::new(
+                XFeat::new(p, ctx).map_err(|e| e.in_stage("descriptor"))?,
+            ))
+        },
     );
 }

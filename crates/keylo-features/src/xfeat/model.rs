@@ -104,8 +104,7 @@ impl Model {
                 .try_extract_tensor::<f32>()
                 .map_err(|e| fail("output", e.to_string()))?;
             let dims: Vec<i64> = shape.iter().copied().collect();
-            if dims.len() != 4 || dims[0] != 1 || dims[2] as usize != hc || dims[3] as usize != wc
-            {
+            if dims.len() != 4 || dims[0] != 1 || dims[2] as usize != hc || dims[3] as usize != wc {
                 return Err(fail(
                     "output",
                     format!("shape {dims:?}, expected [1, C, {hc}, {wc}]"),
