@@ -144,3 +144,31 @@ fn other_sizes_are_resized_as_xfeat_does_and_tiny_ones_refused() {
     .to_string();
     assert!(e.contains("nms_kernel"), "{e}");
 }
+
+/// The shipped INT8 model finds most of the FP32 model's keypoints on the real image: 89 % of
+/// them within 1 px on this OS0-128 sample (97.7 % on the calibration sensor's images
+/// 100–199, `models/xfeat/quantize_xfeat.py`).
+#[test]
+fn the_int8_model_finds_the_fp32_keypoints() {
+    let img = image();
+    let detect = |precision| {
+        let params = XFeatParams {
+            precision,
+            ..XFeatParams::default()
+        };
+        let mut x = XFeat::new(params, &BuildContext::default()).unwrap();
+        x.detect(&img).unwrap()
+    };
+    use keylo_features::xfeat::Precision;
+    let (fp32, int8) = (detect(Precision::Fp32), detect(Precision::Int8));
+    let found = fp32
+        .iter()
+        .filter(|a| {
+            int8.iter()
+                .any(|b| (a.x - b.x).abs() <= 1.0 && (a.y - b.y).abs() <= 1.0)
+        })
+        .count();
+    let share = found as f64 / fp32.len() as f64;
+    eprintln!("INT8 found {found} of {} FP32 keypoints; {} in all", fp32.len(), int8.len());
+    assert!(share > 0.85, "{share}");
+}

@@ -7,8 +7,8 @@ pub mod decode;
 mod model;
 mod params;
 
-pub use model::BUILTIN_MODEL;
-pub use params::XFeatParams;
+pub use model::{BUILTIN_MODEL, BUILTIN_MODEL_INT8};
+pub use params::{Precision, XFeatParams};
 
 use keylo_core::config::StageParams;
 use keylo_core::{

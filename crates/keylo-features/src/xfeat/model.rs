@@ -7,13 +7,16 @@ use ort::session::builder::GraphOptimizationLevel;
 use ort::session::Session;
 use ort::value::Tensor;
 
-use super::params::XFeatParams;
+use super::params::{Precision, XFeatParams};
 use crate::superpoint::runtime;
 use crate::FeaturesError;
 
 /// The shipped XFeat model: the authors' export of their weights (Apache-2.0), made
 /// size-agnostic by `models/xfeat/make_xfeat_onnx.py`; `models/xfeat/PROVENANCE.md`.
 pub static BUILTIN_MODEL: &[u8] = include_bytes!("../../models/xfeat/xfeat.onnx");
+
+/// The same model quantized to INT8 by `models/xfeat/quantize_xfeat.py` (`precision = "int8"`).
+pub static BUILTIN_MODEL_INT8: &[u8] = include_bytes!("../../models/xfeat/xfeat_int8.onnx");
 
 /// Dense outputs at H/8 × W/8.
 pub struct RawOutput {
@@ -43,7 +46,11 @@ impl Model {
         params: &XFeatParams,
         model_path: Option<&std::path::Path>,
     ) -> Result<Self, FeaturesError> {
-        let name = model_path.map_or_else(|| "built-in".to_string(), |p| p.display().to_string());
+        let builtin = match params.precision {
+            Precision::Fp32 => ("built-in", BUILTIN_MODEL),
+            Precision::Int8 => ("built-in int8", BUILTIN_MODEL_INT8),
+        };
+        let name = model_path.map_or_else(|| builtin.0.to_string(), |p| p.display().to_string());
         let key = (name.clone(), params.threads);
         let mut sessions = SESSIONS.lock().unwrap_or_else(|p| p.into_inner());
         if let Some(session) = sessions.get(&key) {
@@ -58,7 +65,7 @@ impl Model {
                 value: format!("\"{}\"", p.display()),
                 expected: format!("a readable XFeat ONNX file ({e})"),
             })?,
-            None => BUILTIN_MODEL.to_vec(),
+            None => builtin.1.to_vec(),
         };
         let fail = |e: String| FeaturesError::Unavailable(format!("XFeat model `{name}`: {e}"));
         let environment = runtime::environment(&params.onnxruntime)?;
