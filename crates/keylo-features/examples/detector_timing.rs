@@ -1,0 +1,63 @@
+//! Detect + describe per image for any registered detector, on 8-bit grey PNGs resized
+//! linearly to 1024×64 (`image_0000.png`…): milliseconds per image (after one warm-up image)
+//! and keypoints per image, as JSON. Used for XFeat's FP32/INT8 timings
+//! (docs/results/xfeat.md).
+//!
+//! Usage: detector_timing IMAGE_DIR COUNT KIND [PARAMS_TOML]
+
+use std::path::Path;
+use std::time::Instant;
+
+use keylo_core::{Channel, Detector, Image, Registry};
+use keylo_features::image::{resize_plane, Interpolation};
+
+fn read_png(path: &Path) -> Result<(Vec<u8>, usize, usize), Box<dyn std::error::Error>> {
+    let file = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info()?;
+    let mut buf = vec![0; reader.output_buffer_size().ok_or("PNG too large")?];
+    let info = reader.next_frame(&mut buf)?;
+    buf.truncate(info.buffer_size());
+    Ok((buf, info.height as usize, info.width as usize))
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    keylo_features::keep_native_heap();
+    let args: Vec<String> = std::env::args().collect();
+    let usage = "usage: detector_timing IMAGE_DIR COUNT KIND [PARAMS_TOML]";
+    let (dir, count, kind) = match args.as_slice() {
+        [_, d, c, k, ..] => (Path::new(d), c.parse::<usize>()?, k.as_str()),
+        _ => return Err(usage.into()),
+    };
+    let params: toml::Table = args.get(4).map_or(Ok(toml::Table::new()), |p| p.parse())?;
+    let mut images = Vec::with_capacity(count);
+    for i in 0..count {
+        let (data, rows, cols) = read_png(&dir.join(format!("image_{i:04}.png")))?;
+        let mut img = Image::new_gray(1024, 64, Channel::Signal);
+        img.data = resize_plane(&data, rows, cols, 1024, 64, Interpolation::Linear)?;
+        images.push(img);
+    }
+    let first = images.first().ok_or("COUNT: expected at least 1")?;
+    let mut registry = Registry::default();
+    keylo_features::register(&mut registry);
+    let f = registry.detectors.get(kind).ok_or("no such detector kind")?;
+    let mut det: Box<dyn Detector> =
+        f.build(&f.resolve(&params).map_err(|e| e.1)?, &Default::default())?;
+    det.detect_and_describe(first)?;
+    let mut keypoints = 0;
+    let t = Instant::now();
+    for img in &images {
+        keypoints += det.detect_and_describe(img)?.0.len();
+    }
+    let n = images.len() as f64;
+    println!(
+        "{}",
+        serde_json::json!({
+            "kind": kind,
+            "params": args.get(4).cloned().unwrap_or_default(),
+            "images": images.len(),
+            "ms_per_image": 1e3 * t.elapsed().as_secs_f64() / n,
+            "keypoints_per_image": keypoints as f64 / n,
+        })
+    );
+    Ok(())
+}
