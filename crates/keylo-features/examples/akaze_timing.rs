@@ -8,24 +8,14 @@
 //! (IMAGE_DIR: 8-bit grey PNGs `image_0000.png`…, resized linearly to WIDTH×HEIGHT, default
 //! 1024×64, the paper's size.)
 
+#[path = "common/images.rs"]
+mod images;
+
 use std::path::Path;
 use std::time::Instant;
 
-use keylo_core::{Channel, Detector, Image, Registry};
+use keylo_core::{Detector, Registry};
 use keylo_features::classic::{AkazeParams, CvFeature};
-use keylo_features::image::{resize_plane, Interpolation};
-
-fn read_png(path: &Path) -> Result<(Vec<u8>, usize, usize), Box<dyn std::error::Error>> {
-    let file = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info()?;
-    let mut buf = vec![0; reader.output_buffer_size().ok_or("PNG too large")?];
-    let info = reader.next_frame(&mut buf)?;
-    if info.color_type != png::ColorType::Grayscale || info.bit_depth != png::BitDepth::Eight {
-        return Err(format!("{}: expected an 8-bit grey PNG", path.display()).into());
-    }
-    buf.truncate(info.buffer_size());
-    Ok((buf, info.height as usize, info.width as usize))
-}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // As the `keylo` binary does (see keep_native_heap).
@@ -37,13 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let count: usize = args.get(2).map_or(Ok(200), |s| s.parse())?;
     let width: usize = args.get(3).map_or(Ok(1024), |s| s.parse())?;
     let height: usize = args.get(4).map_or(Ok(64), |s| s.parse())?;
-    let mut images = Vec::with_capacity(count);
-    for i in 0..count {
-        let (data, rows, cols) = read_png(&dir.join(format!("image_{i:04}.png")))?;
-        let mut img = Image::new_gray(width, height, Channel::Signal);
-        img.data = resize_plane(&data, rows, cols, width, height, Interpolation::Linear)?;
-        images.push(img);
-    }
+    let images = images::load(dir, count, (width, height))?;
     let mut registry = Registry::default();
     keylo_features::register(&mut registry);
     let f = registry.detectors.get("akaze").ok_or("no akaze detector")?;

@@ -6,20 +6,14 @@
 //!
 //! Usage: brief_freak_vs_opencv IMAGE_DIR DUMP.json
 
+#[path = "common/images.rs"]
+mod images;
+
 use std::path::Path;
 
 use keylo_core::{Channel, DescriptorData, Image, Keypoint, Registry};
 use keylo_features::image::{resize_plane, Interpolation};
 use sha2::{Digest, Sha256};
-
-fn read_png(path: &Path) -> Result<(Vec<u8>, usize, usize), Box<dyn std::error::Error>> {
-    let file = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info()?;
-    let mut buf = vec![0; reader.output_buffer_size().ok_or("PNG too large")?];
-    let info = reader.next_frame(&mut buf)?;
-    buf.truncate(info.buffer_size());
-    Ok((buf, info.height as usize, info.width as usize))
-}
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
@@ -32,7 +26,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut totals = serde_json::Map::new();
     let images = dump["images"].as_array().ok_or("no images")?;
     for (i, entry) in images.iter().enumerate() {
-        let (data, rows, cols) = read_png(&Path::new(dir).join(format!("image_{i:04}.png")))?;
+        let (data, rows, cols) =
+            images::read_png(&Path::new(dir).join(format!("image_{i:04}.png")))?;
         let mut img = Image::new_gray(1024, 64, Channel::Signal);
         img.data = resize_plane(&data, rows, cols, 1024, 64, Interpolation::Linear)?;
         for (set, sets) in entry.as_object().ok_or("entry")? {

@@ -5,20 +5,13 @@
 //!
 //! Usage: detector_timing IMAGE_DIR COUNT KIND [PARAMS_TOML]
 
+#[path = "common/images.rs"]
+mod images;
+
 use std::path::Path;
 use std::time::Instant;
 
-use keylo_core::{Channel, Detector, Image, Registry};
-use keylo_features::image::{resize_plane, Interpolation};
-
-fn read_png(path: &Path) -> Result<(Vec<u8>, usize, usize), Box<dyn std::error::Error>> {
-    let file = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info()?;
-    let mut buf = vec![0; reader.output_buffer_size().ok_or("PNG too large")?];
-    let info = reader.next_frame(&mut buf)?;
-    buf.truncate(info.buffer_size());
-    Ok((buf, info.height as usize, info.width as usize))
-}
+use keylo_core::{Detector, Registry};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     keylo_features::keep_native_heap();
@@ -29,17 +22,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         _ => return Err(usage.into()),
     };
     let params: toml::Table = args.get(4).map_or(Ok(toml::Table::new()), |p| p.parse())?;
-    let mut images = Vec::with_capacity(count);
-    for i in 0..count {
-        let (data, rows, cols) = read_png(&dir.join(format!("image_{i:04}.png")))?;
-        let mut img = Image::new_gray(1024, 64, Channel::Signal);
-        img.data = resize_plane(&data, rows, cols, 1024, 64, Interpolation::Linear)?;
-        images.push(img);
-    }
+    let images = images::load(dir, count, (1024, 64))?;
     let first = images.first().ok_or("COUNT: expected at least 1")?;
     let mut registry = Registry::default();
     keylo_features::register(&mut registry);
-    let f = registry.detectors.get(kind).ok_or("no such detector kind")?;
+    let f = registry
+        .detectors
+        .get(kind)
+        .ok_or("no such detector kind")?;
     let mut det: Box<dyn Detector> =
         f.build(&f.resolve(&params).map_err(|e| e.1)?, &Default::default())?;
     det.detect_and_describe(first)?;

@@ -4,40 +4,17 @@
 //! `../shared/data/tiers_signal` where present) and on simulated frames, at the sizes keylo
 //! uses.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
-use keylo_core::{Channel, Descriptor, Detector, Image, Keypoint, Registry};
+use common::{read_png, resized as image};
+
+use keylo_core::{Descriptor, Detector, Image, Keypoint, Registry};
 use keylo_features::classic::{AkazeParams, CvFeature};
-use keylo_features::image::{resize_plane, Interpolation};
 
 fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/kpeval/images")
-}
-
-/// An 8-bit grey PNG: (pixels, rows, cols).
-fn read_png(path: &Path) -> (Vec<u8>, usize, usize) {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut buf).unwrap();
-    assert_eq!(
-        info.color_type,
-        png::ColorType::Grayscale,
-        "{}",
-        path.display()
-    );
-    buf.truncate(info.buffer_size());
-    (buf, info.height as usize, info.width as usize)
-}
-
-/// `png` resized (linear, as the paper) to `width × height`.
-fn image(png: &(Vec<u8>, usize, usize), width: usize, height: usize) -> Image {
-    let (data, rows, cols) = png;
-    let mut img = Image::new_gray(width, height, Channel::Signal);
-    img.data = resize_plane(data, *rows, *cols, width, height, Interpolation::Linear).unwrap();
-    img
 }
 
 fn registry() -> Registry {

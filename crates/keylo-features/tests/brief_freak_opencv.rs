@@ -4,39 +4,15 @@
 //! keypoints kept, the same descriptors bit for bit (BRIEF upright and oriented), and FREAK's
 //! angles.
 
-use std::path::{Path, PathBuf};
+mod common;
 
-use keylo_core::{Channel, DescriptorData, Descriptors, Image, Keypoint, Registry};
-use keylo_features::image::{resize_plane, Interpolation};
+use common::{png_image as image, root};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use keylo_core::{DescriptorData, Descriptors, Image, Keypoint, Registry};
 
 fn golden() -> serde_json::Value {
     let path = root().join("tests/fixtures/brief_freak/golden.json");
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-fn image(path: &Path) -> Image {
-    let file = std::fs::File::open(path).unwrap();
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut buf).unwrap();
-    let (rows, cols) = (info.height as usize, info.width as usize);
-    let mut img = Image::new_gray(1024, 64, Channel::Signal);
-    img.data = resize_plane(
-        &buf[..rows * cols],
-        rows,
-        cols,
-        1024,
-        64,
-        Interpolation::Linear,
-    )
-    .unwrap();
-    img
 }
 
 /// The fixture's keypoints, each tagged with its index in `class_id`.
@@ -79,30 +55,26 @@ fn hex_rows(d: &Descriptors) -> Vec<String> {
         .collect()
 }
 
-#[test]
-fn brief_is_opencv_contribs_bit_for_bit() {
+/// Describes each golden image's keypoint sets with `kind` (`variants`: the fixture's entry
+/// and the settings that give it) and checks the kept keypoints and rows against OpenCV's;
+/// returns how many rows were compared.
+fn check_against_opencv(kind: &str, variants: &[(&str, &str)]) -> usize {
     let g = golden();
     let mut described = 0;
     for (name, sets) in g["images"].as_object().unwrap() {
         let img = image(&root().join(name));
         for set in ["fast", "orb"] {
-            for (variant, params) in [("brief", ""), ("brief_oriented", "use_orientation = true")] {
+            for (variant, params) in variants {
                 let want = &sets[set][variant];
                 let mut kps = keypoints(&sets[set]["keypoints"]);
-                let d = describe("brief", params, &img, &mut kps);
+                let d = describe(kind, params, &img, &mut kps);
                 let kept: Vec<i64> = kps.iter().map(|k| i64::from(k.class_id)).collect();
-                let want_kept: Vec<i64> = want["kept"]
-                    .as_array()
-                    .unwrap()
-                    .iter()
+                let want_kept: Vec<i64> = (want["kept"].as_array().unwrap().iter())
                     .map(|v| v.as_i64().unwrap())
                     .collect();
                 assert_eq!(kept, want_kept, "{name} {set} {variant}: keypoints kept");
-                let want_rows: Vec<String> = want["descriptors"]
-                    .as_array()
-                    .unwrap()
-                    .iter()
-                    .map(|v| v.as_str().unwrap().to_string())
+                let want_rows: Vec<&str> = (want["descriptors"].as_array().unwrap().iter())
+                    .map(|v| v.as_str().unwrap())
                     .collect();
                 assert_eq!(
                     hex_rows(&d),
@@ -113,37 +85,20 @@ fn brief_is_opencv_contribs_bit_for_bit() {
             }
         }
     }
+    described
+}
+
+#[test]
+fn brief_is_opencv_contribs_bit_for_bit() {
+    let described = check_against_opencv(
+        "brief",
+        &[("brief", ""), ("brief_oriented", "use_orientation = true")],
+    );
     assert!(described > 1000, "{described} descriptors");
 }
 
 #[test]
 fn freak_is_opencv_contribs_bit_for_bit() {
-    let g = golden();
-    let mut described = 0;
-    for (name, sets) in g["images"].as_object().unwrap() {
-        let img = image(&root().join(name));
-        for set in ["fast", "orb"] {
-            let want = &sets[set]["freak"];
-            let given = keypoints(&sets[set]["keypoints"]);
-            let mut kps = given.clone();
-            let d = describe("freak", "", &img, &mut kps);
-            let kept: Vec<i64> = kps.iter().map(|k| i64::from(k.class_id)).collect();
-            let want_kept: Vec<i64> = want["kept"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_i64().unwrap())
-                .collect();
-            assert_eq!(kept, want_kept, "{name} {set}: keypoints kept");
-            let want_rows: Vec<String> = want["descriptors"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_str().unwrap().to_string())
-                .collect();
-            assert_eq!(hex_rows(&d), want_rows, "{name} {set}: descriptors");
-            described += kps.len();
-        }
-    }
+    let described = check_against_opencv("freak", &[("freak", "")]);
     assert!(described > 800, "{described} descriptors");
 }

@@ -4,40 +4,15 @@
 //! the paper's real images where `../shared` is present.
 #![cfg(feature = "nonfree")]
 
-use std::path::{Path, PathBuf};
+mod common;
 
-use keylo_core::{
-    Channel, Descriptor, DescriptorData, Descriptors, Detector, Image, Keypoint, Registry,
-};
-use keylo_features::image::{resize_plane, Interpolation};
+use common::{png_image as image, root};
+use keylo_core::{Descriptor, DescriptorData, Descriptors, Detector, Keypoint, Registry};
 use sha2::{Digest, Sha256};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn golden() -> serde_json::Value {
     let text = std::fs::read_to_string(root().join("tests/fixtures/surf/golden.json")).unwrap();
     serde_json::from_str(&text).unwrap()
-}
-
-fn read_png(path: &Path) -> (Vec<u8>, usize, usize) {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut buf).unwrap();
-    buf.truncate(info.buffer_size());
-    (buf, info.height as usize, info.width as usize)
-}
-
-/// The PNG resized to 1024×64, linear, as the paper and the fixture.
-fn image(path: &Path) -> Image {
-    let (data, rows, cols) = read_png(path);
-    let mut img = Image::new_gray(1024, 64, Channel::Signal);
-    img.data = resize_plane(&data, rows, cols, 1024, 64, Interpolation::Linear).unwrap();
-    img
 }
 
 fn registry() -> Registry {

@@ -6,15 +6,12 @@
 //! as XFeat's PyTorch code (`grid_sample`, zeros outside), so a keypoint on the last row or
 //! column scores 0 and is dropped; the numpy port clamps there and keeps it.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::root;
 
 use keylo_core::{BuildContext, Channel, Descriptor, DescriptorData, Detector, Image};
-use keylo_features::image::{resize_plane, Interpolation};
 use keylo_features::xfeat::{XFeat, XFeatParams};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn golden() -> serde_json::Value {
     let path = root().join("tests/fixtures/xfeat/golden.json");
@@ -23,24 +20,7 @@ fn golden() -> serde_json::Value {
 
 /// The golden's image: the committed OS0-128 signal PNG resized to 1024×64, linear.
 fn image() -> Image {
-    let path = root().join("tests/fixtures/kpeval/images/os0/frame000000_signal.png");
-    let mut reader = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()))
-        .read_info()
-        .unwrap();
-    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut buf).unwrap();
-    let (rows, cols) = (info.height as usize, info.width as usize);
-    let mut img = Image::new_gray(1024, 64, Channel::Signal);
-    img.data = resize_plane(
-        &buf[..rows * cols],
-        rows,
-        cols,
-        1024,
-        64,
-        Interpolation::Linear,
-    )
-    .unwrap();
-    img
+    common::png_image(&root().join("tests/fixtures/kpeval/images/os0/frame000000_signal.png"))
 }
 
 #[test]
@@ -169,6 +149,10 @@ fn the_int8_model_finds_the_fp32_keypoints() {
         })
         .count();
     let share = found as f64 / fp32.len() as f64;
-    eprintln!("INT8 found {found} of {} FP32 keypoints; {} in all", fp32.len(), int8.len());
+    eprintln!(
+        "INT8 found {found} of {} FP32 keypoints; {} in all",
+        fp32.len(),
+        int8.len()
+    );
     assert!(share > 0.85, "{share}");
 }

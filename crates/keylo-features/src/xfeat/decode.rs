@@ -187,7 +187,7 @@ mod tests {
         data[3 * 10 + 3] = 0.5;
         data[3 * 10 + 5] = 0.4; // within 2 px of a stronger one
         data[8 * 10 + 8] = 0.3;
-        data[1 * 10 + 8] = 0.01; // below the threshold
+        data[10 + 8] = 0.01; // row 1: below the threshold
         let m = Map {
             data: &data,
             rows: 10,
