@@ -16,6 +16,7 @@ Needs: onnxruntime 1.32, onnx, numpy, opencv-python-headless (pip).
 The script prints the speed of both models and the share of FP32 keypoints found again.
 """
 import sys
+import tempfile
 import time
 
 import cv2
@@ -83,17 +84,16 @@ def peaks(out):
 
 
 def main(src, tiers, out):
-    op13, prepared = out + ".op13.onnx", out + ".pre.onnx"
-    onnx.save(version_converter.convert_version(onnx.load(src), 13), op13)
-    quant_pre_process(op13, prepared, skip_symbolic_shape=True)
-    head = keypoint_head(onnx.load(prepared))
-    print("FP32:", head)
-    quantize_static(prepared, out, Calibration(tiers), quant_format=QuantFormat.QDQ,
-                    per_channel=True, activation_type=QuantType.QUInt8,
-                    weight_type=QuantType.QInt8, calibrate_method=CalibrationMethod.Percentile,
-                    extra_options={"CalibPercentile": 99.99}, nodes_to_exclude=head)
-    for tmp in (op13, prepared):
-        __import__("os").remove(tmp)
+    with tempfile.TemporaryDirectory() as tmp:
+        op13, prepared = f"{tmp}/op13.onnx", f"{tmp}/prepared.onnx"
+        onnx.save(version_converter.convert_version(onnx.load(src), 13), op13)
+        quant_pre_process(op13, prepared, skip_symbolic_shape=True)
+        head = keypoint_head(onnx.load(prepared))
+        print("FP32:", head)
+        quantize_static(prepared, out, Calibration(tiers), quant_format=QuantFormat.QDQ,
+                        per_channel=True, activation_type=QuantType.QUInt8,
+                        weight_type=QuantType.QInt8, calibrate_method=CalibrationMethod.Percentile,
+                        extra_options={"CalibPercentile": 99.99}, nodes_to_exclude=head)
     a, b = session(src), session(out)
     for name, s in (("fp32", a), ("int8", b)):
         s.run(None, {"input": image(tiers, 150)})
