@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Detect (+ describe) time per detector/descriptor combination: keylo vs OpenCV from Python,
 # on the same 1024x64 real Ouster signal images with the same parameters, in one run.
-# Usage: scripts/bench/detect_vs_opencv_python.sh [REPEATS] [PCAP...]
-# (default: the OS-0-128 and OS-2-128 samples with signal images: 3 frames)
+# Usage: scripts/bench/detect_vs_opencv_python.sh [REPEATS] [INPUT...]
+# INPUT: a PCAP (its frames' signal images) or DIR:COUNT (the first COUNT image_NNNN.png of
+# DIR, e.g. ../shared/data/tiers_signal:200, the paper's images). Default: the OS-0-128 and
+# OS-2-128 samples with signal images: 3 frames.
 # Python: KEYLO_CV_PYTHON (default /usr/bin/python3, which needs Debian's python3-opencv:
 # the same OpenCV 4.6 keylo links, so the ratio is keylo's overhead).
 set -euo pipefail

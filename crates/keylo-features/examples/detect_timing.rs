@@ -1,12 +1,18 @@
 //! Times detect (+ describe) per detector/descriptor combination on real 1024×64 LiDAR
 //! signal images, for `scripts/bench/detect_vs_opencv_python.sh`.
 //!
-//! Usage: detect_timing IMAGE_DIR REPEATS PCAP...
-//! Builds the signal images of every frame of every PCAP with the default `lidar` image builder
-//! (1024×64, linear), writes them to IMAGE_DIR as PNG (the Python side reads the same files),
-//! then prints one JSON object: milliseconds per image for each combination.
+//! Usage: detect_timing IMAGE_DIR REPEATS INPUT...
+//! Each INPUT is a PCAP, whose every frame's signal image the default `lidar` image builder
+//! makes (1024×64, linear), or `DIR:COUNT`, the first COUNT `image_NNNN.png` of DIR (the
+//! paper's images) resized to 1024×64 (linear). The images are written to IMAGE_DIR as PNG (the
+//! Python side reads the same files), then one JSON object is printed: milliseconds per image
+//! for each combination.
+
+#[path = "common/images.rs"]
+mod images;
 
 use std::io::BufWriter;
+use std::path::Path;
 use std::time::Instant;
 
 use keylo_core::{BuildContext, Descriptor, Detector, ImageBuilder, ImageSource, Registry};
@@ -53,11 +59,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         [_, o, r, pcaps @ ..] if !pcaps.is_empty() => {
             (std::path::PathBuf::from(o), r.parse::<usize>()?, pcaps)
         }
-        _ => return Err("usage: detect_timing IMAGE_DIR REPEATS PCAP...".into()),
+        _ => return Err("usage: detect_timing IMAGE_DIR REPEATS INPUT...".into()),
     };
     let mut builder = LidarImageBuilder::new(LidarImageConfig::default())?;
     let mut images = Vec::new();
     for pcap in pcaps {
+        if let Some((dir, count)) = pcap.rsplit_once(':') {
+            images.extend(images::load(Path::new(dir), count.parse()?, (1024, 64))?);
+            continue;
+        }
         let config = OusterSourceConfig {
             path: pcap.clone(),
             ..OusterSourceConfig::default()
