@@ -207,3 +207,47 @@ fn bad_settings_are_named() {
         assert!(err.contains(key), "{err}");
     }
 }
+
+/// Keypoints SURF cannot measure (no finite position, no positive size, larger than the
+/// image) are dropped, never a panic; an empty image gives no rows.
+#[test]
+fn unmeasurable_keypoints_are_dropped() {
+    let r = registry();
+    let mut d = descriptor(&r);
+    let img = image(&root().join("tests/fixtures/kpeval/images/os0/frame000000_signal.png"));
+    let good = Keypoint {
+        x: 500.0,
+        y: 32.0,
+        size: 12.0,
+        angle: -1.0,
+        response: 1.0,
+        octave: 0,
+        class_id: 0,
+    };
+    let mut kps = vec![
+        Keypoint {
+            size: -10.0,
+            ..good
+        },
+        Keypoint {
+            size: f32::INFINITY,
+            ..good
+        },
+        Keypoint {
+            size: 4.1e9,
+            ..good
+        },
+        Keypoint {
+            x: f32::NAN,
+            ..good
+        },
+        Keypoint { x: 1e9, ..good },
+        good,
+    ];
+    let rows = d.describe(&img, &mut kps).unwrap().rows;
+    assert_eq!((rows, kps.len()), (1, 1));
+    assert_eq!((kps[0].x, kps[0].y), (500.0, 32.0));
+    let mut some = vec![good];
+    let empty = keylo_core::Image::new_gray(0, 64, keylo_core::Channel::Signal);
+    assert_eq!(d.describe(&empty, &mut some).unwrap().rows, 0);
+}

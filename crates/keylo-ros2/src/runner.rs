@@ -241,9 +241,9 @@ impl Ros2Node {
         held: Held,
         on_frame: &mut impl FnMut(&Published),
     ) -> Result<(), String> {
+        let prepare_seconds = held.started.elapsed().as_secs_f64();
         self.apply_prior(odometry, frame);
         let t = Instant::now();
-        let prepare_seconds = (t - held.started).as_secs_f64();
         let processed = odometry.process_guarded(frame, self.want_features);
         let seconds = t.elapsed().as_secs_f64();
         let (result, features) = processed.map_err(|e| e.to_string())?;

@@ -1,7 +1,7 @@
 //! `freak`: the FREAK binary descriptor (Alahi, Ortiz, Vandergheynst, CVPR 2012), native.
 //!
-//! With `pattern = "opencv"` (default) it is OpenCV contrib's FREAK bit for bit
-//! ([`super::freak_cv`]). With `pattern = "trained"`, keylo's own: the retina pattern ([`super::freak_pattern`]) is scaled by `pattern_scale` × the keypoint's
+//! With `pattern = "opencv"` (default) it computes OpenCV contrib's FREAK descriptors bit
+//! for bit ([`super::freak_cv`]). With `pattern = "trained"`, keylo's own: the retina pattern ([`super::freak_pattern`]) is scaled by `pattern_scale` × the keypoint's
 //! scale (its size / 7, within `n_octaves` octaves, when `scale_normalized`), each receptive
 //! field is averaged over its square from an integral image (the nearest whole-pixel square for
 //! fields of half-width ≥ 1.5 px, area-weighted for smaller ones), the orientation
@@ -89,10 +89,10 @@ impl Freak {
     pub fn new(params: &FreakParams) -> Result<Self, FeaturesError> {
         let ps = params.pattern_scale;
         check(
-            ps.is_finite() && ps > 0.0,
+            ps.is_finite() && ps > 0.0 && ps <= 1000.0,
             "pattern_scale",
             ps,
-            "expected a finite number > 0",
+            "expected a number > 0 and at most 1000 (pixels)",
         )?;
         check(
             (1..=8).contains(&params.n_octaves),
@@ -340,6 +340,13 @@ mod tests {
     fn bad_parameters_and_two_plane_images_are_errors() {
         let e = Freak::new(&FreakParams {
             pattern_scale: -1.0,
+            ..FreakParams::default()
+        })
+        .err()
+        .unwrap();
+        assert!(e.to_string().contains("`pattern_scale`"), "{e}");
+        let e = Freak::new(&FreakParams {
+            pattern_scale: 1e10,
             ..FreakParams::default()
         })
         .err()

@@ -2,8 +2,10 @@
 //! pattern quantised to 64 scales × 256 orientations, each receptive field averaged over a
 //! square of the integral image with its edges rounded half to even (bilinear interpolation when its half-width is below
 //! half a pixel), all in integers; the orientation from 45 pairs with integer weights; the
-//! 512 tests of [`super::freak_opencv`]. Bit for bit OpenCV's descriptors and angles
-//! (`tests/brief_freak_opencv.rs`).
+//! 512 tests of [`super::freak_opencv`]. OpenCV's descriptors bit for bit
+//! (`tests/brief_freak_opencv.rs`); its angles within 1e-4° (`scripts/peers/freak_pattern.py`
+//! checks the model against OpenCV's). The orientation weights round half up (`floor(v +
+//! 0.5)`), which is what OpenCV 4.14's angles need, negative weights included.
 
 use std::f64::consts::PI;
 
@@ -166,8 +168,13 @@ impl CvFreak {
         let (left, top) = (edge(xf - r), edge(yf - r));
         let (right, bottom) = (edge(xf + r + 1.0), edge(yf + r + 1.0));
         let (t, stride) = (sat.table(), sat.stride());
-        let at = |x: usize, y: usize| i64::from(t[y * stride + x]);
-        let sum = at(right, bottom) - at(left, bottom) + at(left, top) - at(right, top);
+        let at = |x: usize, y: usize| t[y * stride + x];
+        // The table wraps modulo 2³² on very large images; a square's own sum never does.
+        let sum = at(right, bottom)
+            .wrapping_sub(at(left, bottom))
+            .wrapping_add(at(left, top))
+            .wrapping_sub(at(right, top));
+        let sum = i64::from(sum);
         let area = ((right - left) * (bottom - top)) as i64;
         ((sum + area / 2) / area) as i32
     }

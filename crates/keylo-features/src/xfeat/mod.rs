@@ -52,6 +52,14 @@ impl XFeat {
             )));
         }
         let (w, h) = (image.width, image.height);
+        if image.stride < w || image.data.len() < image.stride * h {
+            return Err(crate::FeaturesError::BadInput(format!(
+                "image `{}`: {} bytes for {w}×{h} pixels with stride {}",
+                image.name(),
+                image.data.len(),
+                image.stride
+            )));
+        }
         let (w32, h32) = (w / 32 * 32, h / 32 * 32);
         if w32 == 0 || h32 == 0 {
             return Err(crate::FeaturesError::BadInput(format!(
@@ -109,7 +117,8 @@ impl XFeat {
                         decode::nearest(&heat, at, w, h) * decode::bilinear(&reliability, at, w, h);
                     (s, x, y)
                 })
-                .filter(|(s, _, _)| *s > 0.0)
+                // As `detectAndCompute`: a keypoint at (0, 0) is its padding, scored −1.
+                .filter(|&(s, x, y)| s > 0.0 && (x, y) != (0, 0))
                 .collect();
         // Best first; ties in image order (the sort is stable).
         scored.sort_by(|a, b| b.0.total_cmp(&a.0));

@@ -58,9 +58,11 @@ pub(crate) fn scale<const N: usize>(
 pub(crate) fn apply(table: &[u32], origin: usize, boxes: &[ScaledBox]) -> f32 {
     let mut d = 0.0f64;
     for b in boxes {
-        let sum = i64::from(table[origin + b.top_left]) + i64::from(table[origin + b.bottom_right])
-            - i64::from(table[origin + b.bottom_left])
-            - i64::from(table[origin + b.top_right]);
+        // The table wraps modulo 2³² on very large images; a box's own sum never does.
+        let sum = table[origin + b.top_left]
+            .wrapping_add(table[origin + b.bottom_right])
+            .wrapping_sub(table[origin + b.bottom_left])
+            .wrapping_sub(table[origin + b.top_right]);
         d += f64::from(sum as f32 * b.weight);
     }
     d as f32

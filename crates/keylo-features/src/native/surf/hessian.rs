@@ -96,7 +96,7 @@ impl Layer {
 }
 
 /// The keypoints of `sat`'s image: `n_octaves × n_octave_layers` scales, determinant above
-/// `threshold`, in OpenCV's order (response, size, octave descending, then position).
+/// `threshold`, in OpenCV's order (response, size, octave, y descending, then x ascending).
 pub(crate) fn detect(
     sat: &Integral,
     n_octaves: usize,
@@ -117,8 +117,8 @@ pub(crate) fn detect(
     keypoints
 }
 
-/// OpenCV's keypoint order: larger response first, then larger size, higher octave, lower
-/// row, lower column.
+/// OpenCV's keypoint order: larger response first, then larger size, higher octave, larger
+/// y (row), smaller x (column).
 fn order(a: &Keypoint, b: &Keypoint) -> std::cmp::Ordering {
     b.response
         .total_cmp(&a.response)

@@ -83,16 +83,25 @@ impl Surf {
         let plane = Plane::of(image);
         let mut values = Vec::new();
         let mut kept = Vec::with_capacity(keypoints.len());
+        if image.width == 0 || image.height == 0 {
+            keypoints.clear();
+        }
         for mut k in keypoints.drain(..) {
+            // A keypoint without a finite position or a positive size cannot be measured
+            // (OpenCV would read outside the image).
+            if !(k.x.is_finite() && k.y.is_finite() && k.size.is_finite() && k.size > 0.0) {
+                continue;
+            }
             let s = k.size * 1.2 / 9.0;
-            let wavelet = 2 * haar::round_even(2.0 * s);
-            if (sat.height() as i32 + 1) < wavelet || (sat.width() as i32 + 1) < wavelet {
+            let wavelet = 2 * i64::from(haar::round_even(2.0 * s));
+            let (rows, cols) = (sat.height() as i64 + 1, sat.width() as i64 + 1);
+            if rows < wavelet || cols < wavelet {
                 continue;
             }
             let angle = if self.params.upright {
                 None
             } else {
-                match self.disc.direction(sat, k.x, k.y, s) {
+                match self.disc.direction(sat, (k.x, k.y), s, wavelet as i32) {
                     Some(a) => Some(a),
                     None => continue,
                 }

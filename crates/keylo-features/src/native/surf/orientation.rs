@@ -48,9 +48,15 @@ impl Disc {
     }
 
     /// The direction (degrees, OpenCV's convention: 0–360, y down) of a keypoint at `(x, y)` of
-    /// scale `s` (= size · 1.2 / 9); `None` when no sample fits in the image.
-    pub fn direction(&self, sat: &Integral, x: f32, y: f32, s: f32) -> Option<f32> {
-        let wavelet = 2 * round_even(2.0 * s);
+    /// scale `s` (= size · 1.2 / 9), with Haar wavelets of side `wavelet` (2·round(2s), at
+    /// most the image's size); `None` when no sample fits in the image.
+    pub fn direction(
+        &self,
+        sat: &Integral,
+        (x, y): (f32, f32),
+        s: f32,
+        wavelet: i32,
+    ) -> Option<f32> {
         let stride = sat.stride();
         let (dx, dy): ([ScaledBox; 2], [ScaledBox; 2]) = (
             scale(&DX, 4, wavelet, stride),
