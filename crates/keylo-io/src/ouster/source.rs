@@ -328,7 +328,12 @@ impl ImageSource for OusterSource {
             ("returns".into(), m.udp_profile_lidar.returns().to_string()),
             (
                 "column window".into(),
-                format!("{}..={}", m.column_window.0, m.column_window.1),
+                match m.column_window {
+                    (first, last) if first <= last => format!("{first}..={last}"),
+                    (first, last) => {
+                        format!("{first}..={}, 0..={last}", m.columns_per_frame - 1)
+                    }
+                },
             ),
             ("metadata".into(), self.meta_path.display().to_string()),
         ];
