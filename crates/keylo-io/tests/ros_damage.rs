@@ -1,8 +1,11 @@
 //! Damaged copies of the ROS fixtures: the frames before the damage are read, then one error
 //! names the file, the place (byte offset, message index) and what was wrong; never a panic.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
+use common::{assert_mentions, read_until_error, temp_file as write};
 use keylo_core::{BuildContext, ImageSource};
 use keylo_io::ros::{bag_info, BagFormat, BagSource, BagSourceConfig};
 use serde_json::Value;
@@ -31,14 +34,6 @@ fn mcap_bytes() -> Vec<u8> {
     std::fs::read(fixtures().join("ouster_ros2/ouster_ros2_0.mcap")).unwrap()
 }
 
-/// Writes `bytes` as `name` in a fresh folder.
-fn write(name: &str, bytes: &[u8]) -> (tempfile::TempDir, PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join(name);
-    std::fs::write(&path, bytes).unwrap();
-    (dir, path)
-}
-
 /// Reads /ouster/points: the frames read, then the error text (if any).
 fn read(path: &Path, format: BagFormat) -> (usize, Option<String>) {
     let config = BagSourceConfig {
@@ -47,23 +42,7 @@ fn read(path: &Path, format: BagFormat) -> (usize, Option<String>) {
         ..BagSourceConfig::default()
     };
     let mut source = BagSource::open(&config, &BuildContext::default(), format).unwrap();
-    let mut ok = 0;
-    while let Some(frame) = source.next_frame() {
-        match frame {
-            Ok(_) => ok += 1,
-            Err(e) => {
-                assert!(source.next_frame().is_none(), "nothing after an error");
-                return (ok, Some(e.to_string()));
-            }
-        }
-    }
-    (ok, None)
-}
-
-fn assert_mentions(err: &str, parts: &[&str]) {
-    for p in parts {
-        assert!(err.contains(p), "`{p}` missing from: {err}");
-    }
+    read_until_error(&mut source)
 }
 
 #[test]

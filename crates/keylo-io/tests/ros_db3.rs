@@ -2,7 +2,11 @@
 //! copied byte for byte by `make_db3_fixture.py`) read through source kind `mcap`: the same
 //! frames as the MCAP bag, topic choice, `bag_info`, `--data` detection, and damaged copies.
 
+mod common;
+
 use std::path::{Path, PathBuf};
+
+use common::lit;
 
 use keylo_core::{BuildContext, ImageSource, LidarFrame, Registry};
 use keylo_io::ros::{bag_info, BagFormat, BagSource, BagSourceConfig};
@@ -198,17 +202,14 @@ fn data_paths_are_detected_as_kind_mcap() {
     keylo_io::register(&mut registry);
     assert_eq!(registry.detect_source(&db3_folder()), Some("mcap"));
     assert_eq!(registry.detect_source(&db3_file()), Some("mcap"));
-    let mut params = toml::Table::new();
-    params.insert("path".into(), db3_folder().display().to_string().into());
-    params.insert("topic".into(), "/cloud_unorganised".into());
-    let factory = registry.sources.get("mcap").unwrap();
-    let resolved = factory.resolve(&params).unwrap();
-    let mut source = factory.build(&resolved, &BuildContext::default()).unwrap();
+    let params = format!(
+        "path = {}\ntopic = \"/cloud_unorganised\"",
+        lit(&db3_folder())
+    );
+    let mut source = common::build("mcap", &params).unwrap();
     assert_eq!(source.info().frames, Some(3));
     assert!(source.next_frame().unwrap().is_ok());
-    let wrong = registry.sources.get("ros1-bag").unwrap();
-    let err = wrong
-        .build(&resolved, &BuildContext::default())
+    let err = common::build("ros1-bag", &params)
         .err()
         .unwrap()
         .to_string();

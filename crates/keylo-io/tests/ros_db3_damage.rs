@@ -2,9 +2,12 @@
 //! header or pages overwritten, tables missing, files missing. The messages before the damage
 //! are read, then one error names the file and what is wrong; never a panic.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
-use keylo_core::{BuildContext, ImageSource};
+use common::{assert_mentions, read_until_error};
+use keylo_core::BuildContext;
 use keylo_io::ros::{bag_info, BagFormat, BagSource, BagSourceConfig};
 
 fn fixture_bytes() -> Vec<u8> {
@@ -14,10 +17,7 @@ fn fixture_bytes() -> Vec<u8> {
 
 /// Writes `bytes` as `x.db3` in a fresh folder.
 fn write(bytes: &[u8]) -> (tempfile::TempDir, PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("x.db3");
-    std::fs::write(&path, bytes).unwrap();
-    (dir, path)
+    common::temp_file("x.db3", bytes)
 }
 
 /// The fixture with `range` xor-ed.
@@ -39,26 +39,9 @@ fn read(path: &Path, topic: &str) -> (usize, Option<String>) {
     };
     config.projection.rows = Some(32);
     config.projection.cols = Some(1024);
-    let mut source = match BagSource::open(&config, &BuildContext::default(), BagFormat::Mcap) {
-        Ok(s) => s,
-        Err(e) => return (0, Some(e.to_string())),
-    };
-    let mut ok = 0;
-    while let Some(frame) = source.next_frame() {
-        match frame {
-            Ok(_) => ok += 1,
-            Err(e) => {
-                assert!(source.next_frame().is_none(), "nothing after an error");
-                return (ok, Some(e.to_string()));
-            }
-        }
-    }
-    (ok, None)
-}
-
-fn assert_mentions(err: &str, parts: &[&str]) {
-    for p in parts {
-        assert!(err.contains(p), "`{p}` missing from: {err}");
+    match BagSource::open(&config, &BuildContext::default(), BagFormat::Mcap) {
+        Ok(mut source) => read_until_error(&mut source),
+        Err(e) => (0, Some(e.to_string())),
     }
 }
 

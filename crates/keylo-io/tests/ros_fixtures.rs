@@ -1,7 +1,11 @@
 //! The ROS fixtures (`tests/fixtures/ros/`, made from an OS-0-128 capture) read through source
 //! kinds `ros1-bag` and `mcap` and `bag_info`, against rosbags' `golden.json`.
 
+mod common;
+
 use std::path::{Path, PathBuf};
+
+use common::lit;
 
 use keylo_core::{BuildContext, ImageSource, LidarFrame, Registry, ScanPoints};
 use keylo_io::ros::{bag_info, BagFormat, BagSource, BagSourceConfig};
@@ -277,18 +281,12 @@ fn registered_kinds_and_data_probes() {
         Some("mcap")
     );
     assert_eq!(registry.detect_source(&fixtures()), None);
-    let mut params = toml::Table::new();
-    params.insert("path".into(), folder.display().to_string().into());
-    params.insert("topic".into(), "/ouster/points".into());
-    let factory = registry.sources.get("mcap").unwrap();
-    let resolved = factory.resolve(&params).unwrap();
-    let mut source = factory.build(&resolved, &BuildContext::default()).unwrap();
+    let params = format!("path = {}\ntopic = \"/ouster/points\"", lit(&folder));
+    let mut source = common::build("mcap", &params).unwrap();
     assert_eq!(source.info().frames, Some(3));
     assert!(source.next_frame().unwrap().is_ok());
     // The wrong kind for the file says which kind reads it.
-    let wrong = registry.sources.get("ros1-bag").unwrap();
-    let err = wrong
-        .build(&resolved, &BuildContext::default())
+    let err = common::build("ros1-bag", &params)
         .err()
         .unwrap()
         .to_string();

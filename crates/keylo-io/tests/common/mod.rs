@@ -47,6 +47,37 @@ pub fn frames(source: &mut dyn ImageSource) -> Result<Vec<LidarFrame>, CoreError
     std::iter::from_fn(|| source.next_frame()).collect()
 }
 
+/// Reads `source` to its end: the frames read, then the error's text if one stopped it (and
+/// nothing may follow an error).
+pub fn read_until_error(source: &mut dyn ImageSource) -> (usize, Option<String>) {
+    let mut ok = 0;
+    while let Some(frame) = source.next_frame() {
+        match frame {
+            Ok(_) => ok += 1,
+            Err(e) => {
+                assert!(source.next_frame().is_none(), "nothing after an error");
+                return (ok, Some(e.to_string()));
+            }
+        }
+    }
+    (ok, None)
+}
+
+/// Asserts that `err` mentions every one of `parts`.
+pub fn assert_mentions(err: &str, parts: &[&str]) {
+    for p in parts {
+        assert!(err.contains(p), "`{p}` missing from: {err}");
+    }
+}
+
+/// Writes `bytes` as `name` in a fresh temporary folder (removed when the guard drops).
+pub fn temp_file(name: &str, bytes: &[u8]) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let path = dir.path().join(name);
+    std::fs::write(&path, bytes).expect("write the copy");
+    (dir, path)
+}
+
 /// TOML string literal of a path.
 pub fn lit(path: &Path) -> String {
     format!("{:?}", path.display().to_string())
