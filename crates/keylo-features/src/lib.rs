@@ -13,6 +13,8 @@ pub mod native;
 mod native_heap;
 pub mod neighbourhood;
 #[cfg(feature = "superpoint")]
+mod onnx_session;
+#[cfg(feature = "superpoint")]
 pub mod superpoint;
 #[cfg(feature = "superpoint")]
 pub mod xfeat;

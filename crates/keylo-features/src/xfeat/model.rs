@@ -3,13 +3,11 @@
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 
-use ort::session::builder::GraphOptimizationLevel;
 use ort::session::Session;
 use ort::value::Tensor;
 
 use super::params::{Precision, XFeatParams};
-use crate::superpoint::runtime;
-use crate::FeaturesError;
+use crate::{onnx_session, FeaturesError};
 
 /// The shipped XFeat model: the authors' export of their weights (Apache-2.0), made
 /// size-agnostic by `models/xfeat/make_xfeat_onnx.py`; `models/xfeat/PROVENANCE.md`.
@@ -30,9 +28,6 @@ pub struct RawOutput {
     pub wc: usize,
 }
 
-type Key = (String, usize);
-static SESSIONS: Mutex<BTreeMap<Key, Arc<Mutex<Session>>>> = Mutex::new(BTreeMap::new());
-
 /// A loaded model.
 #[derive(Clone)]
 pub struct Model {
@@ -51,40 +46,23 @@ impl Model {
             Precision::Int8 => ("built-in int8", BUILTIN_MODEL_INT8),
         };
         let name = model_path.map_or_else(|| builtin.0.to_string(), |p| p.display().to_string());
-        let key = (name.clone(), params.threads);
-        let mut sessions = SESSIONS.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some(session) = sessions.get(&key) {
-            return Ok(Self {
-                name,
-                session: session.clone(),
-            });
-        }
-        let bytes = match model_path {
-            Some(p) => std::fs::read(p).map_err(|e| FeaturesError::BadParameter {
-                field: "model".into(),
-                value: format!("\"{}\"", p.display()),
-                expected: format!("a readable XFeat ONNX file ({e})"),
-            })?,
-            None => builtin.1.to_vec(),
-        };
-        let fail = |e: String| FeaturesError::Unavailable(format!("XFeat model `{name}`: {e}"));
-        let environment = runtime::environment(&params.onnxruntime)?;
-        let mut builder = Session::builder(environment)
-            .map_err(|e| fail(e.to_string()))?
-            .with_optimization_level(GraphOptimizationLevel::All)
-            .map_err(|e| fail(e.to_string()))?
-            .with_intra_op_spinning(false)
-            .map_err(|e| fail(e.to_string()))?;
-        if params.threads > 0 {
-            builder = builder
-                .with_intra_threads(params.threads)
-                .map_err(|e| fail(e.to_string()))?;
-        }
-        let session = builder
-            .commit_from_memory(&bytes)
-            .map_err(|e| fail(format!("cannot load the ONNX model: {e}")))?;
-        let session = Arc::new(Mutex::new(session));
-        sessions.insert(key, session.clone());
+        let key = format!("xfeat {name} threads {}", params.threads);
+        let session = onnx_session::shared(key, || {
+            let bytes = match model_path {
+                Some(p) => std::fs::read(p).map_err(|e| FeaturesError::BadParameter {
+                    field: "model".into(),
+                    value: format!("\"{}\"", p.display()),
+                    expected: format!("a readable XFeat ONNX file ({e})"),
+                })?,
+                None => builtin.1.to_vec(),
+            };
+            let what = format!("XFeat model `{name}`");
+            onnx_session::builder(&params.onnxruntime, params.threads, false, &what)?
+                .commit_from_memory(&bytes)
+                .map_err(|e| {
+                    FeaturesError::Unavailable(format!("{what}: cannot load the ONNX model: {e}"))
+                })
+        })?;
         Ok(Self { name, session })
     }
 

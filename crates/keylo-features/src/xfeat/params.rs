@@ -3,22 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::superpoint::Precision;
 use crate::{check, FeaturesError};
-
-/// Which of the shipped XFeat models runs.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum Precision {
-    /// The FP32 network.
-    #[default]
-    Fp32,
-    /// The same network statically quantized to INT8 (activations uint8, weights int8 per
-    /// channel; the keypoint head stays FP32), calibrated on 100 real OS0-128 signal images:
-    /// 97.7 % of the FP32 keypoints within 1 px (`models/xfeat/quantize_xfeat.py`).
-    Int8,
-}
 
 /// `[detector]`/`[descriptor] kind = "xfeat"`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -28,7 +14,10 @@ pub struct XFeatParams {
     /// the 65-channel keypoint logits and the reliability map, all at H/8 × W/8). Empty: the
     /// shipped model (the authors' weights, Apache-2.0), built into keylo.
     pub model: String,
-    /// `fp32` or `int8`: which shipped model runs (`model` empty).
+    /// `fp32` or `int8`: which shipped model runs (`model` empty). The INT8 one: activations
+    /// uint8, weights int8 per channel, the keypoint head FP32, calibrated on 100 real OS0-128
+    /// signal images; 97.7 % of the FP32 keypoints within 1 px
+    /// (`models/xfeat/quantize_xfeat.py` makes it).
     pub precision: Precision,
     /// Smallest keypoint heatmap value kept (XFeat's `detection_threshold`).
     pub detection_threshold: f32,
