@@ -1,5 +1,5 @@
 """OpenCV's SURF (opencv-contrib 3.4.2, the last PyPI wheel with it) detect + describe per
-image, one thread, on the same images as keylo's `surf_timing` example; prints JSON.
+image, one thread, on the same images as keylo's `detector_timing` example; prints JSON.
 
 Usage: python3.7 surf_opencv_timing.py IMAGE_DIR [COUNT] [REPEATS]
 """

@@ -17,8 +17,8 @@ if [ ! -x "$python" ]; then
   target/surf-venv/bin/pip install -q "opencv-contrib-python==3.4.2.17" "numpy<1.22"
   python=target/surf-venv/bin/python
 fi
-cargo build -q --release --locked -p keylo-features --features nonfree --example surf_timing
-k=$(./target/release/examples/surf_timing "$dir" "$count" "$repeats")
+cargo build -q --release --locked -p keylo-features --features nonfree --example detector_timing
+k=$(./target/release/examples/detector_timing "$dir" "$count" surf "describe = true" "$repeats")
 c=$("$python" scripts/bench/surf_opencv_timing.py "$dir" "$count" "$repeats")
 python3 - "$k" "$c" <<'PY'
 import json, sys
