@@ -55,7 +55,8 @@ fn rings() -> ([f64; 8], [f64; 8]) {
 /// OpenCV's FREAK sampling for one `pattern_scale` and octave count.
 pub(crate) struct CvFreak {
     pattern_scale: f64,
-    scale_step: f64,
+    /// `2^(n_octaves · s / 64)` per scale index `s`.
+    factors: [f64; SCALES],
     radius: [f64; 8],
     sigma: [f64; 8],
     /// Half-size of the pattern per scale, pixels (keypoints closer to a border are dropped).
@@ -78,7 +79,7 @@ impl CvFreak {
         let scale_step = 2f64.powf(f64::from(n_octaves) / SCALES as f64);
         let mut f = Self {
             pattern_scale: f64::from(pattern_scale),
-            scale_step,
+            factors: std::array::from_fn(|s| scale_step.powf(s as f64)),
             radius,
             sigma,
             sizes: [0; SCALES],
@@ -88,7 +89,7 @@ impl CvFreak {
             orientation_normalized,
         };
         for s in 0..SCALES {
-            let factor = f.factor(s);
+            let factor = f.factors[s];
             f.sizes[s] = (0..8)
                 .map(|i| ((radius[i] + sigma[i]) * factor * f.pattern_scale).ceil() as i32 + 1)
                 .max()
@@ -104,10 +105,6 @@ impl CvFreak {
         f
     }
 
-    fn factor(&self, scale: usize) -> f64 {
-        self.scale_step.powf(scale as f64)
-    }
-
     /// Field `p` at `scale` and orientation step `o`: offset and half-width, pixels.
     fn point(&self, scale: usize, o: usize, p: usize) -> (f32, f32, f32) {
         let (ring, k, n) = if p < 42 {
@@ -115,7 +112,7 @@ impl CvFreak {
         } else {
             (7, 0, 1.0)
         };
-        let f = self.factor(scale);
+        let f = self.factors[scale];
         let theta = o as f64 * 2.0 * PI / ORIENTATIONS as f64;
         let beta = PI / n * (ring % 2) as f64;
         let alpha = k as f64 * 2.0 * PI / n + beta + theta;

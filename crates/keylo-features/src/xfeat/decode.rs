@@ -103,10 +103,11 @@ pub fn heatmap(logits: &[f32], hc: usize, wc: usize) -> Vec<f32> {
             let cell = cy * wc + cx;
             let logit = |k: usize| logits[k * cells + cell];
             let max = (0..65).map(logit).fold(f32::NEG_INFINITY, f32::max);
-            let sum: f32 = (0..65).map(|k| (logit(k) - max).exp()).sum();
-            for k in 0..64 {
+            let e: [f32; 65] = std::array::from_fn(|k| (logit(k) - max).exp());
+            let sum: f32 = e.iter().sum();
+            for (k, ek) in e[..64].iter().enumerate() {
                 let (r, c) = (k / 8, k % 8);
-                out[(cy * 8 + r) * cols + cx * 8 + c] = (logit(k) - max).exp() / sum;
+                out[(cy * 8 + r) * cols + cx * 8 + c] = ek / sum;
             }
         }
     }
