@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use keylo_core::{FrameFeatures, FrameResult, LidarFrame, Odometry};
 use keylo_io::cloud::{ProjectionConfig, Projector, Sensor};
-use keylo_io::ros::{to_raw_cloud, CloudFramer};
+use keylo_io::ros::CloudFramer;
 use nalgebra::Isometry3;
 
 use crate::dds::Dds;
@@ -199,30 +199,18 @@ impl Ros2Node {
             }
         }
         let started = Instant::now();
-        let cloud = match to_raw_cloud(&msg.view()) {
-            Ok(c) => c,
-            Err(e) => return self.refuse(msg, &e.to_string()),
-        };
-        let finite = cloud
-            .points
-            .iter()
-            .filter(|p| p.iter().all(|v| v.is_finite()))
-            .count();
-        if finite == 0 {
-            let what = format!("none of its {} points is finite", cloud.points.len());
-            return self.refuse(msg, &what);
-        }
-        let decoded = started.elapsed().as_secs_f64();
-        let frame = match self.framer.frame(&cloud, self.next_index) {
+        let frame = match self.framer.frame_message(&msg.view(), self.next_index) {
             Ok(f) => f,
             Err(e) => return self.refuse(msg, &e),
         };
+        if let Some(what) = no_points(&frame, msg) {
+            return self.refuse(msg, &what);
+        }
         tracing::debug!(
-            "ros2: cloud {}: waited {:.2} ms, decoded in {:.2} ms, framed in {:.2} ms",
+            "ros2: cloud {}: waited {:.2} ms, decoded and framed in {:.2} ms",
             self.next_index,
             1e3 * (started - taken).as_secs_f64(),
-            1e3 * decoded,
-            1e3 * (started.elapsed().as_secs_f64() - decoded)
+            1e3 * started.elapsed().as_secs_f64()
         );
         let header = (msg.header.stamp.to_ns(), msg.header.frame_id.as_str());
         let held = Held { taken, started };
@@ -360,5 +348,19 @@ impl Ros2Node {
 fn report<E: std::fmt::Debug>(r: Result<(), E>, topic: &str) {
     if let Err(e) = r {
         tracing::warn!("{topic}: publishing failed: {e:?}");
+    }
+}
+
+/// Why `frame` (of `msg`) holds nothing to register, if it does not: no finite point (an
+/// unorganised cloud), no return (an organised one: every point non-finite or at the origin).
+fn no_points(frame: &LidarFrame, msg: &msgs::PointCloud2) -> Option<String> {
+    let n = u64::from(msg.width) * u64::from(msg.height);
+    match &frame.scan {
+        Some(scan) => scan
+            .is_empty()
+            .then(|| format!("none of its {n} points is finite")),
+        None => (!frame.valid.contains(&true)).then(|| {
+            format!("none of its {n} points is finite and away from the origin (a return)")
+        }),
     }
 }

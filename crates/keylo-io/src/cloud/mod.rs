@@ -10,6 +10,7 @@ pub mod organised;
 pub mod projection;
 pub(crate) mod projection_config;
 mod raw;
+mod records;
 mod rows;
 mod sensors;
 
@@ -17,3 +18,4 @@ pub use correction::{VerticalAngleCorrection, KISS_ICP_KITTI_DEG};
 pub use error::CloudError;
 pub use projection::{Grid, ProjectionConfig, Projector, RowSource, Sensor};
 pub use raw::RawCloud;
+pub use records::{PointFields, PointRecord};

@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use super::azimuth::azimuth_column;
 pub use super::projection_config::{Grid, ProjectionConfig, RingOrder, RowSource, Sensor};
+use super::records::{PointFields, PointRecord};
 use super::rows::RowLookup;
 use super::{organised::column_times, CloudError, RawCloud, VerticalAngleCorrection};
 use keylo_core::{BeamGeometry, LidarFrame, ScanPoints};
@@ -62,6 +63,11 @@ impl Projector {
     /// the projection.
     pub fn set_grid_needed(&mut self, needed: bool) {
         self.grid_needed = needed;
+    }
+
+    /// Whether frames get their image grid ([`Projector::set_grid_needed`]).
+    pub fn grid_needed(&self) -> bool {
+        self.grid_needed
     }
 
     /// The projector of `config` for a source whose `auto` sensor is `source_default`.
@@ -123,13 +129,14 @@ impl Projector {
         let mut f = LidarFrame::empty(index, cloud.timestamp, rows, cols, Arc::clone(&self.beams));
         let period = self.period();
         let kept = located.iter().filter(|l| l.pixel != DROPPED).count();
-        let mut scan = self.empty_scan(cloud, kept, rows * cols);
+        let mut scan = self.empty_scan(PointFields::of(cloud), kept, rows * cols);
         let mut time_samples = Vec::new();
         for (i, l) in located.iter().enumerate() {
             if l.pixel == DROPPED {
                 continue;
             }
-            let k = self.push_point(&mut scan, cloud, i, l.xyz, l.pixel, || l.col as usize);
+            let record = PointRecord::of(cloud, i);
+            let k = self.push_point(&mut scan, &record, l.xyz, l.pixel, || l.col as usize);
             let file_time = cloud.time.as_ref().map(|t| t[i]);
             if l.pixel == ScanPoints::NONE {
                 continue;
@@ -168,15 +175,52 @@ impl Projector {
     /// The frame of `cloud` without an image grid: its finite points with their times,
     /// intensities and rings, none of them in a pixel.
     fn points_only(&self, cloud: &RawCloud, index: u64) -> LidarFrame {
+        let records = (0..cloud.len()).map(|i| PointRecord::of(cloud, i));
+        let fields = PointFields::of(cloud);
+        self.records_only(cloud.timestamp, (fields, cloud.len()), records, index)
+    }
+
+    /// The frame [`Projector::project`] makes when no grid is needed
+    /// ([`Projector::grid_needed`] is false), straight from a source's points (e.g. a
+    /// message's bytes) instead of a [`RawCloud`]: the `records` of a cloud stamped
+    /// `timestamp`, `n` of them at most, each carrying the `fields` named. For points without
+    /// a ring: rings are checked against the whole cloud first, so a cloud with rings goes
+    /// through [`Projector::project`] (rings given here are left out of the frame).
+    /// `Err(CloudError::NoRing)` when the grid's rows come from rings.
+    pub fn points_only_from(
+        &self,
+        timestamp: f64,
+        (fields, n): (PointFields, usize),
+        records: impl Iterator<Item = PointRecord>,
+        index: u64,
+    ) -> Result<LidarFrame, CloudError> {
+        if self.grid.row_from == RowSource::Ring {
+            return Err(CloudError::NoRing);
+        }
+        let fields = PointFields {
+            ring: false,
+            ..fields
+        };
+        Ok(self.records_only(timestamp, (fields, n), records, index))
+    }
+
+    /// [`Projector::points_only_from`] for records whose rings, if any, were checked.
+    fn records_only(
+        &self,
+        timestamp: f64,
+        (fields, n): (PointFields, usize),
+        records: impl Iterator<Item = PointRecord>,
+        index: u64,
+    ) -> LidarFrame {
         let cols = self.grid.cols;
-        let mut scan = self.empty_scan(cloud, cloud.len(), 0);
-        for (i, p) in cloud.points.iter().enumerate() {
-            if let Some(v) = self.corrected(cloud, i, p) {
+        let mut scan = self.empty_scan(fields, n, 0);
+        for r in records {
+            if let Some(v) = self.corrected(&r) {
                 let col = || azimuth_column(v[0], v[1], cols);
-                self.push_point(&mut scan, cloud, i, v, ScanPoints::NONE, col);
+                self.push_point(&mut scan, &r, v, ScanPoints::NONE, col);
             }
         }
-        let mut f = LidarFrame::empty(index, cloud.timestamp, 0, 0, Arc::clone(&self.beams));
+        let mut f = LidarFrame::empty(index, timestamp, 0, 0, Arc::clone(&self.beams));
         f.scan = Some(Arc::new(scan));
         f
     }
@@ -187,54 +231,53 @@ impl Projector {
         (self.grid.frame_rate_hz > 0.0).then(|| 1.0 / self.grid.frame_rate_hz)
     }
 
-    /// A scan with room for `n` points, the per-point fields `cloud` has (times also when
+    /// A scan with room for `n` points, the per-point `fields` of the cloud (times also when
     /// they are spread by azimuth) and a grid of `pixels` empty pixels.
-    fn empty_scan(&self, cloud: &RawCloud, n: usize, pixels: usize) -> ScanPoints {
-        let timed = cloud.time.is_some() || self.period().is_some();
+    fn empty_scan(&self, fields: PointFields, n: usize, pixels: usize) -> ScanPoints {
+        let timed = fields.time || self.period().is_some();
         ScanPoints {
             points: Vec::with_capacity(n),
             times: timed.then(|| Vec::with_capacity(n)),
-            intensity: cloud.intensity.as_ref().map(|_| Vec::with_capacity(n)),
-            ring: cloud.ring.as_ref().map(|_| Vec::with_capacity(n)),
+            intensity: fields.intensity.then(|| Vec::with_capacity(n)),
+            ring: fields.ring.then(|| Vec::with_capacity(n)),
             source_index: Vec::with_capacity(n),
             pixel: Vec::with_capacity(n),
             pixel_to_point: vec![ScanPoints::NONE; pixels],
         }
     }
 
-    /// Appends point `i` of `cloud` (coordinates `xyz`, in `pixel`) to `scan`; without a time
-    /// field its time is that of its azimuth column (`col`, asked only then). Returns its
-    /// index in the scan.
+    /// Appends point `r` (coordinates `xyz`, in `pixel`) to `scan`; without a time its time
+    /// is that of its azimuth column (`col`, asked only then). Returns its index in the scan.
     fn push_point(
         &self,
         scan: &mut ScanPoints,
-        cloud: &RawCloud,
-        i: usize,
+        r: &PointRecord,
         xyz: [f64; 3],
         pixel: u32,
         col: impl FnOnce() -> usize,
     ) -> u32 {
         let k = scan.points.len() as u32;
         scan.points.push(Point3::from(xyz));
-        scan.source_index.push(i as u32);
+        scan.source_index.push(r.index);
         scan.pixel.push(pixel);
-        if let (Some(out), Some(v)) = (scan.intensity.as_mut(), cloud.intensity.as_ref()) {
-            out.push(v[i]);
+        if let (Some(out), Some(v)) = (scan.intensity.as_mut(), r.intensity) {
+            out.push(v);
         }
-        if let (Some(out), Some(r)) = (scan.ring.as_mut(), cloud.ring.as_ref()) {
-            out.push(r[i]);
+        if let (Some(out), Some(ring)) = (scan.ring.as_mut(), r.ring) {
+            out.push(ring);
         }
         if let Some(out) = scan.times.as_mut() {
             let spread = || self.period().unwrap_or(0.0) * col() as f64 / self.grid.cols as f64;
-            out.push(cloud.time.as_ref().map_or_else(spread, |t| t[i]));
+            out.push(r.time.unwrap_or_else(spread));
         }
         k
     }
 
-    /// Point `i` (`p`) of `cloud` in double precision and corrected; `None` for a point with
-    /// a non-finite coordinate or time (before or after the correction).
-    fn corrected(&self, cloud: &RawCloud, i: usize, p: &[f32; 3]) -> Option<[f64; 3]> {
-        let time_ok = cloud.time.as_ref().is_none_or(|t| t[i].is_finite());
+    /// Point `r` in double precision and corrected; `None` for a point with a non-finite
+    /// coordinate or time (before or after the correction).
+    fn corrected(&self, r: &PointRecord) -> Option<[f64; 3]> {
+        let time_ok = r.time.is_none_or(f64::is_finite);
+        let p = r.xyz;
         let v = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
         if !time_ok || !v.iter().all(|x| x.is_finite()) {
             return None;
@@ -247,7 +290,15 @@ impl Projector {
     /// coordinate or time (before or after the correction), [`ScanPoints::NONE`] for one
     /// outside the grid.
     fn locate(&self, cloud: &RawCloud, rings: Option<&[u16]>, i: usize, p: &[f32; 3]) -> Located {
-        let Some(v) = self.corrected(cloud, i, p) else {
+        let time = cloud.time.as_ref().map(|t| t[i]);
+        let record = PointRecord {
+            index: i as u32,
+            xyz: *p,
+            time,
+            intensity: None,
+            ring: None,
+        };
+        let Some(v) = self.corrected(&record) else {
             return Located {
                 xyz: [0.0; 3],
                 pixel: DROPPED,

@@ -9,6 +9,8 @@ use std::sync::Arc;
 use keylo_core::{BeamGeometry, LidarFrame};
 
 use super::beams;
+use super::pointcloud2::{to_raw_cloud, DirectPoints};
+use super::PointCloud2;
 use crate::cloud::{organised, Projector, RawCloud};
 use crate::ouster::OusterMetadata;
 
@@ -52,6 +54,23 @@ impl CloudFramer {
         }
     }
 
+    /// The frame of a message's cloud (the same frame as [`CloudFramer::frame`] of its
+    /// [`to_raw_cloud`]); `Err` says what is wrong with it. When no grid is needed, an
+    /// unorganised cloud without rings is framed straight from the message's bytes.
+    pub fn frame_message(&mut self, msg: &PointCloud2, index: u64) -> Result<LidarFrame, String> {
+        if !self.projector.grid_needed() {
+            if let Some(points) = DirectPoints::of(msg)? {
+                let (timestamp, fields) = (msg.header.stamp_s(), points.fields());
+                return self
+                    .projector
+                    .points_only_from(timestamp, fields, points.records(), index)
+                    .map_err(|e| e.to_string());
+            }
+        }
+        let cloud = to_raw_cloud(msg).map_err(|e| e.to_string())?;
+        self.frame(&cloud, index)
+    }
+
     /// The beams of the stream: decided on the first cloud, again if the grid size changes.
     fn beams_for(&mut self, cloud: &RawCloud, rows: usize, cols: usize) -> Arc<BeamGeometry> {
         if let Some(b) = &self.beams {
@@ -74,3 +93,7 @@ impl CloudFramer {
         self.metadata.as_ref()
     }
 }
+
+#[cfg(test)]
+#[path = "framer_tests.rs"]
+mod tests;

@@ -7,7 +7,7 @@ fn decode_with(buf: &[u8], enc: Encoding) -> Result<RawCloud, crate::ros::Decode
 }
 
 /// Serialises a value of datatype `code` in the given byte order.
-fn bytes_of(code: u8, v: f64, big: bool) -> Vec<u8> {
+pub(crate) fn bytes_of(code: u8, v: f64, big: bool) -> Vec<u8> {
     let mut b = match code {
         1 => vec![(v as i8) as u8],
         2 => vec![v as u8],

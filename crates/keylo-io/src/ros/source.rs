@@ -144,6 +144,9 @@ impl BagSource {
         );
         let fail = |m: String| IoError::format(&path, format!("{at}: {m}"));
         let pc = PointCloud2::decode(&msg.data, self.encoding).map_err(|e| fail(e.to_string()))?;
+        if self.channels.is_empty() {
+            return self.framer.frame_message(&pc, i as u64).map_err(fail);
+        }
         let cloud = to_raw_cloud(&pc).map_err(|e| fail(e.to_string()))?;
         if cloud.grid.is_none() && !self.channels.is_empty() {
             return Err(fail(
