@@ -17,6 +17,7 @@ pub use keylo_features as features;
 pub use keylo_io as io;
 #[cfg(feature = "opencv")]
 pub use keylo_kpeval as kpeval;
+pub use keylo_map as map;
 #[cfg(feature = "plugins")]
 pub use keylo_plugin as plugin;
 pub use keylo_registration as registration;

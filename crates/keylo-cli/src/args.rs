@@ -44,6 +44,9 @@ pub enum Command {
     /// and sweep image size × interpolation.
     #[command(subcommand)]
     Keypoints(crate::keypoints::KeypointsCommand),
+    /// The chores on a saved map folder (`keylo run … --map-out DIR`): info, export, crop.
+    #[command(subcommand)]
+    Map(crate::cmd_map::MapCommand),
     /// List and check run-time plugins (`kind = "plugin:NAME"`); see docs/plugins.md.
     #[command(subcommand)]
     Plugins(crate::cmd_plugins::PluginsCommand),
@@ -91,6 +94,11 @@ pub struct RunArgs {
     /// shows them).
     #[arg(long, value_name = "EVERY_N", value_parser = clap::value_parser!(u64).range(1..))]
     pub images: Option<u64>,
+    /// Save a global map of the run in DIR: the world-frame cloud, voxelised (map.ply,
+    /// map.pcd), and keyframes with their clouds, keypoints and descriptors; settings in
+    /// `[map]` (docs/maps.md).
+    #[arg(long, value_name = "DIR")]
+    pub map_out: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -8,6 +8,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use keylo::config::{OnBadFrame, PipelineConfig};
+use keylo::map::MapBuilder;
 use keylo::{CoreError, ImageSource, Paced, Pipeline, Prefetched, Trajectory};
 
 use crate::args::RunArgs;
@@ -29,6 +30,13 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     )?;
     // A ground-truth file named by the user must be readable before any work starts.
     let gt_given = run_accuracy::reference_file(&args, &config)?;
+    let map_settings = match &args.map_out {
+        Some(_) => Some(keylo::map::MapConfig::from_table(
+            &config.map,
+            &config.origin,
+        )?),
+        None => None,
+    };
     let out = output_dir(&args, &config)?;
     std::fs::write(
         out.join("config.toml"),
@@ -59,6 +67,10 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let mut pictures = args
         .images
         .map(|every| Pictures::new(every, out.join("images")));
+    let mut map = match (&args.map_out, map_settings) {
+        (Some(dir), Some(settings)) => Some(MapBuilder::create(dir, settings, &info.description)?),
+        _ => None,
+    };
     process_all(
         &mut pipeline,
         &config,
@@ -66,10 +78,13 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         &mut Outputs {
             journal: &mut journal,
             pictures: pictures.as_mut(),
+            map: map.as_mut(),
         },
         &mut outcome,
     );
     progress.finish_and_clear();
+    // The map holds the frames done, also when the run stopped early.
+    let map = map.map(MapBuilder::finish).transpose()?;
     let (wall_hz, cpu_percent) = clock.rates(outcome.totals.frames);
 
     let mut summary = Summary {
@@ -84,6 +99,13 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         path_length_m: outcome.trajectory.path_length(),
         playback_speed: args.realtime,
         frames_late: late.map(|n| n.load(std::sync::atomic::Ordering::Relaxed)),
+        map: map.as_ref().zip(args.map_out.as_ref()).map(|(m, dir)| {
+            serde_json::json!({
+                "dir": dir.display().to_string(),
+                "points": m.points,
+                "keyframes": m.keyframes,
+            })
+        }),
         ..Summary::default()
     };
     outcome.totals.fill(&mut summary);
@@ -147,6 +169,7 @@ struct RunState {
 struct Outputs<'a> {
     journal: &'a mut Journal,
     pictures: Option<&'a mut Pictures>,
+    map: Option<&'a mut MapBuilder>,
 }
 
 /// The registrar's final local map as `map.ply` (world frame), when it has one.
@@ -206,8 +229,11 @@ fn process_all(
             .pictures
             .as_ref()
             .is_some_and(|p| p.wants(frame.index));
+        let mapped = (outputs.map.as_ref()).is_some_and(|m| m.config().keyframe_features);
         let t = Instant::now();
-        let result = pipeline.odometry.process_guarded(&frame, pictured);
+        let result = pipeline
+            .odometry
+            .process_guarded(&frame, pictured || mapped);
         let seconds = t.elapsed().as_secs_f64();
         st.totals.odometry_seconds += seconds;
         progress.inc(1);
@@ -234,7 +260,7 @@ fn process_all(
                     odometry_ms: 1e3 * seconds,
                     rss_mb: resources::rss_mb(),
                 };
-                if let Some(d) = r.degeneracy {
+                if let Some(d) = r.degeneracy.clone() {
                     tracing::debug!(
                         "frame {}: condition {:.3e}, {} weak direction(s), weakest {:?}",
                         frame.index,
@@ -247,14 +273,20 @@ fn process_all(
                         degeneracy: d,
                     });
                 }
-                let recorded =
-                    outputs
-                        .journal
-                        .record(r.stamp, &r.pose, &row)
-                        .and_then(|()| match (outputs.pictures.as_deref_mut(), &features) {
-                            (Some(p), Some(f)) => p.record(&pipeline.odometry, &frame, f),
-                            _ => Ok(()),
-                        });
+                let recorded = outputs
+                    .journal
+                    .record(r.stamp, &r.pose, &row)
+                    .and_then(|()| match (outputs.pictures.as_deref_mut(), &features) {
+                        (Some(p), Some(f)) if pictured => p.record(&pipeline.odometry, &frame, f),
+                        _ => Ok(()),
+                    })
+                    .and_then(|()| match outputs.map.as_deref_mut() {
+                        Some(m) => m
+                            .add(&frame, &r, features.as_ref())
+                            .map(|_| ())
+                            .map_err(Into::into),
+                        None => Ok(()),
+                    });
                 if let Err(e) = recorded {
                     st.failure = Some(Failure {
                         frame: frame.index,

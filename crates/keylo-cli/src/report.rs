@@ -76,6 +76,9 @@ pub struct Summary {
     /// `keylo ros2`: clouds received, dropped, refused and registered by the node.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ros2: Option<serde_json::Value>,
+    /// The global map saved with `--map-out`: its folder, points and keyframes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub map: Option<serde_json::Value>,
 }
 
 /// Running sums over frames.

@@ -24,7 +24,7 @@ use std::path::PathBuf;
 
 /// The sections of a config file, in pipeline order (`[plugins]` first: it says where
 /// `kind = "plugin:NAME"` backends are found).
-pub const SECTIONS: [&str; 9] = [
+pub const SECTIONS: [&str; 10] = [
     "plugins",
     "source",
     "image",
@@ -34,6 +34,7 @@ pub const SECTIONS: [&str; 9] = [
     "registrar",
     "output",
     "ros2",
+    "map",
 ];
 
 /// The stage sections and the backend each uses when the file does not say.
@@ -96,6 +97,9 @@ pub struct PipelineConfig {
     /// `[ros2]`: the settings of `keylo ros2` (crate `keylo-ros2` validates them; every other
     /// command carries the table through unread, so one config serves a node and a replay).
     pub ros2: toml::Table,
+    /// `[map]`: the settings of the global map a run saves (`--map-out`; crate `keylo-map`
+    /// validates them; runs that save no map carry the table through unread).
+    pub map: toml::Table,
 }
 
 impl PipelineConfig {

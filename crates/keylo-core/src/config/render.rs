@@ -39,6 +39,11 @@ pub fn render_resolved(config: &PipelineConfig, registry: &Registry) -> String {
         out.push_str("\n[ros2]\n");
         write_table(&mut out, "ros2", &config.ros2, &Value::Null, &Value::Null);
     }
+    if !config.map.is_empty() {
+        // Validated and documented by crate keylo-map, not by the registry.
+        out.push_str("\n[map]\n");
+        write_table(&mut out, "map", &config.map, &Value::Null, &Value::Null);
+    }
     out
 }
 

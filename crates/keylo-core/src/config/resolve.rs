@@ -41,6 +41,10 @@ impl Registry {
                 None => toml::Table::new(),
                 Some(value) => expect_table(&raw.origin, "ros2", value)?,
             },
+            map: match raw.table.get("map") {
+                None => toml::Table::new(),
+                Some(value) => expect_table(&raw.origin, "map", value)?,
+            },
         })
     }
 

@@ -1,0 +1,120 @@
+//! One voxel of the global cloud: the running mean of its points and their intensities.
+
+use keylo_core::voxel::{Voxel, VoxelMap};
+
+/// The points that fell into one voxel, as their mean.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct VoxelMean {
+    pub mean: [f64; 3],
+    pub intensity: f64,
+    pub count: u32,
+}
+
+impl VoxelMean {
+    /// Adds one point (a running mean: no sum grows with the count).
+    #[inline]
+    pub fn add(&mut self, p: [f64; 3], intensity: f64) {
+        self.count = self.count.saturating_add(1);
+        let w = 1.0 / f64::from(self.count);
+        for (m, v) in self.mean.iter_mut().zip(p) {
+            *m += (v - *m) * w;
+        }
+        self.intensity += (intensity - self.intensity) * w;
+    }
+
+    /// The mean of one point.
+    pub fn first(p: [f64; 3], intensity: f64) -> Self {
+        Self {
+            mean: p,
+            intensity,
+            count: 1,
+        }
+    }
+
+    /// As a row of the saved cloud: `[x, y, z, intensity]`.
+    pub fn row(&self) -> [f32; 4] {
+        [
+            self.mean[0] as f32,
+            self.mean[1] as f32,
+            self.mean[2] as f32,
+            self.intensity as f32,
+        ]
+    }
+}
+
+/// The voxels of one tile.
+pub(crate) type Voxels = VoxelMap<VoxelMean>;
+
+/// Bytes of one voxel in a tile file: key (3 × i32), mean (3 × f64), intensity (f64),
+/// count (u32), little endian.
+const RECORD: usize = 12 + 24 + 8 + 4;
+
+/// A tile's voxels as bytes, ordered by key (the same tile always gives the same bytes).
+pub(crate) fn to_bytes(voxels: &Voxels) -> Vec<u8> {
+    let mut keys: Vec<&Voxel> = voxels.keys().collect();
+    keys.sort_unstable();
+    let mut out = Vec::with_capacity(RECORD * keys.len());
+    for k in keys {
+        let v = &voxels[k];
+        for c in k {
+            out.extend_from_slice(&c.to_le_bytes());
+        }
+        for m in v.mean {
+            out.extend_from_slice(&m.to_le_bytes());
+        }
+        out.extend_from_slice(&v.intensity.to_le_bytes());
+        out.extend_from_slice(&v.count.to_le_bytes());
+    }
+    out
+}
+
+/// The voxels of [`to_bytes`]' output; `Err` says why the bytes are not a tile.
+pub(crate) fn from_bytes(bytes: &[u8]) -> Result<Voxels, String> {
+    if !bytes.len().is_multiple_of(RECORD) {
+        return Err(format!(
+            "{} bytes is not a whole number of {RECORD}-byte voxel records",
+            bytes.len()
+        ));
+    }
+    let mut voxels = Voxels::default();
+    voxels.reserve(bytes.len() / RECORD);
+    for r in bytes.chunks_exact(RECORD) {
+        let i32_at = |o: usize| i32::from_le_bytes([r[o], r[o + 1], r[o + 2], r[o + 3]]);
+        let f64_at = |o: usize| {
+            let mut b = [0u8; 8];
+            b.copy_from_slice(&r[o..o + 8]);
+            f64::from_le_bytes(b)
+        };
+        let key = [i32_at(0), i32_at(4), i32_at(8)];
+        let count = u32::from_le_bytes([r[44], r[45], r[46], r[47]]);
+        let v = VoxelMean {
+            mean: [f64_at(12), f64_at(20), f64_at(28)],
+            intensity: f64_at(36),
+            count,
+        };
+        voxels.insert(key, v);
+    }
+    Ok(voxels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn means_and_tile_bytes_round_trip() {
+        let mut v = VoxelMean::first([1.0, 2.0, 3.0], 10.0);
+        v.add([3.0, 4.0, 5.0], 20.0);
+        v.add([2.0, 3.0, 4.0], 30.0);
+        assert_eq!(v.mean, [2.0, 3.0, 4.0]);
+        assert_eq!((v.intensity, v.count), (20.0, 3));
+        let mut voxels = Voxels::default();
+        voxels.insert([-1, 0, 7], v);
+        voxels.insert([5, -9, 0], VoxelMean::first([0.5, -0.25, 1e3], 0.0));
+        let bytes = to_bytes(&voxels);
+        assert_eq!(from_bytes(&bytes).unwrap(), voxels);
+        assert!(from_bytes(&bytes[1..])
+            .unwrap_err()
+            .contains("whole number"));
+    }
+}

@@ -1,0 +1,28 @@
+//! Global maps saved from a keylo run (`keylo run … --map-out DIR`, docs/maps.md).
+//!
+//! A map folder holds the whole run's cloud in the world frame, voxelised (each voxel keeps
+//! the centroid and mean intensity of its points) as `map.ply` and `map.pcd`, and keyframes
+//! (pose, stamp, the keyframe's cloud, its keypoints and descriptors when the pipeline made
+//! them), described by a versioned `map.json`. While a map is built only the tiles of the
+//! world within the sensor's reach stay in memory; the others wait on disk, so memory stays
+//! bounded however long the run.
+//!
+//! - [`MapBuilder`]: feed it each registered frame, then `finish`.
+//! - [`Map`]: an existing map folder, checked ([`Map::open`]), its cloud read or cropped.
+
+mod accumulate;
+mod builder;
+mod config;
+mod error;
+mod features_json;
+mod keyframes;
+mod manifest;
+mod open;
+mod tiles;
+
+pub use builder::MapBuilder;
+pub use config::MapConfig;
+pub use error::MapError;
+pub use keyframes::KeyframeRow;
+pub use manifest::{Bounds, MapManifest, FORMAT, VERSION};
+pub use open::Map;
