@@ -33,8 +33,8 @@ sys.path.insert(0, str(HERE))
 
 # peer_common sets CYCLONEDDS_URI before Cyclone DDS loads.
 from peer_common import (  # noqa: E402
-    ROOT, Peer, bag_clouds, check, end_stamp_ns, finish, kitti_bins, quat_angle, read_tum,
-    records, reference_run, to_dds)
+    ROOT, Peer, bag_clouds, check, end_stamp_ns, finish, kitti_bins, quat_angle, read_map_ply,
+    read_tum, records, reference_run, to_dds)
 from interop_control import run_control, run_debug  # noqa: E402
 import ros2_idl as m  # noqa: E402
 
@@ -75,7 +75,8 @@ def run_stream(name, clouds, args, work, bad_after=None, config_sets=(), config=
     log_path = out / "node.log"
     with open(log_path, "w") as log:
         node = subprocess.Popen(
-            [args.keylo, "ros2"] + cfg + ["--out", str(node_dir), "--set", "ros2.input_reliability=reliable",
+            [args.keylo, "ros2"] + cfg + ["--out", str(node_dir), "--map-out", str(out / "keylo-ros2-map"),
+             "--set", "ros2.input_reliability=reliable",
              "--set", f"ros2.domain_id={args.domain}"] + sets, stdout=log, stderr=log)
     peer = Peer(args.domain)
     try:
@@ -157,6 +158,17 @@ def run_stream(name, clouds, args, work, bad_after=None, config_sets=(), config=
     check(summary["ros2"]["clouds_refused"] == len(bad_sent),
           f"{name}: summary counts {summary['ros2']['clouds_refused']} refused clouds, {len(bad_sent)} sent")
     print(f"{name}: {len(bad_sent)} bad clouds refused and logged; the node went on", flush=True)
+    # The node's map is the map keylo run saves from the same scans.
+    node_map = json.loads((out / "keylo-ros2-map" / "map.json").read_text())
+    run_map = json.loads((out / "keylo-run-map" / "map.json").read_text())
+    a, b = read_map_ply(out / "keylo-ros2-map" / "map.ply"), read_map_ply(out / "keylo-run-map" / "map.ply")
+    same = a.shape == b.shape and float(np.abs(a - b).max(initial=0.0)) <= 1e-4
+    check(node_map["frames"] == len(got) and (node_map["points"], node_map["keyframes"])
+          == (run_map["points"], run_map["keyframes"]) and same,
+          f"{name}: the node's map ({node_map['points']} points, {node_map['keyframes']} keyframes) "
+          f"is not keylo run's ({run_map['points']}, {run_map['keyframes']})")
+    print(f"{name}: the node's map holds keylo run's {run_map['points']} points and "
+          f"{run_map['keyframes']} keyframes", flush=True)
 
 
 def main():

@@ -32,7 +32,7 @@ def run_control(clouds, gt, args, work):
         return
     with open(out / "node.log", "w") as log:
         node = subprocess.Popen(
-            [args.keylo, "-v", "ros2", "--out", str(out / "keylo-ros2"),
+            [args.keylo, "-v", "ros2", "--out", str(out / "keylo-ros2"), "--map-out", str(out / "map"),
              "--set", "ros2.input_reliability=reliable", "--set", f"ros2.domain_id={args.domain}",
              "--set", "ros2.motion_prior_topic=/wheel/odometry"], stdout=log, stderr=log)
     peer = Peer(args.domain)
@@ -94,6 +94,10 @@ def run_control(clouds, gt, args, work):
     # Every scan with a scan before it (not the first, not the first after the reset).
     check(summary["motion_priors_used"] == 6 and summary["poses_set"] == 1 and summary["resets"] == 1,
           f"{name}: node counts {summary}")
+    # The reset finished the map of the scans before it and started another for those after.
+    maps = [json.loads((out / d / "map.json").read_text()) for d in ("map", "map-1")]
+    check([mp["frames"] for mp in maps] == [6, len(answers) - 6],
+          f"{name}: maps before and after the reset hold {[mp['frames'] for mp in maps]} frames")
     print(f"{name}: motion prior used on {summary['motion_priors_used']} scans (poses within {worst:.3f} m "
           f"of keylo run); set_pose continued within {err5:.4f} m; reset started over at the identity",
           flush=True)

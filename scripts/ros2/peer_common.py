@@ -151,13 +151,15 @@ def write_reference_bag(path, clouds, topic="/points"):
 
 def reference_run(name, keylo, clouds, out, config=None, sets=()):
     """The clouds as a ROS 2 MCAP bag in `out` and `keylo run` on it, with exact trajectory
-    numbers: its poses as TUM rows, or None when it failed (the failure is recorded)."""
+    numbers and a saved map (`out/keylo-run-map`): its poses as TUM rows, or None when it
+    failed (the failure is recorded)."""
     bag = out / "reference.mcap"
     write_reference_bag(bag, clouds)
     cfg = [str(config)] if config else []
     overrides = sum((["--set", s] for s in ("output.exact=true",) + tuple(sets)), [])
     r = subprocess.run([keylo, "-q", "run"] + cfg + ["--data", str(bag), "--out", str(out / "keylo-run"),
-                        "--prefetch", "0"] + overrides, capture_output=True, text=True)
+                        "--prefetch", "0", "--map-out", str(out / "keylo-run-map")] + overrides,
+                       capture_output=True, text=True)
     if not check(r.returncode == 0, f"{name}: keylo run on the reference bag: {r.stderr[-2000:]}"):
         return None
     return read_tum(out / "keylo-run/trajectory.tum")
@@ -169,6 +171,13 @@ def finish():
         print(f"{len(FAILURES)} check(s) failed", flush=True)
         sys.exit(1)
     print("all checks passed", flush=True)
+
+
+def read_map_ply(path):
+    """The points of a keylo map's binary PLY (x, y, z, intensity float32) as an N×4 array."""
+    data = Path(path).read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    return np.frombuffer(data[end:], dtype="<f4").reshape(-1, 4)
 
 
 def read_tum(path):

@@ -23,6 +23,10 @@ pub enum Error {
         frame: u64,
         source: keylo_io::cloud::CloudError,
     },
+    /// The map being saved ([`crate::Frontend::save_map`]) could not be written, or its
+    /// settings are out of range.
+    #[error(transparent)]
+    Map(#[from] keylo_map::MapError),
     /// `push_points` with another number of times than points.
     #[error("frame {frame}: `times` has {times} values for {points} points (one time per point expected)")]
     TimesLength {

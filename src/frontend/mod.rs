@@ -53,13 +53,14 @@ mod builder;
 mod error;
 mod output;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use keylo_core::config::RawConfig;
 use keylo_core::registry::parse_params;
 use keylo_core::{BeamGeometry, LidarFrame, Odometry, Pose, Registry};
 use keylo_io::cloud::{ProjectionConfig, Projector, RawCloud, Sensor};
+use keylo_map::{MapBuilder, MapConfig, MapManifest};
 use nalgebra::Point3;
 
 pub use builder::FrontendBuilder;
@@ -73,6 +74,8 @@ pub struct Frontend {
     projector: Projector,
     frames: u64,
     last: Option<FrameOutput>,
+    /// The global map being saved, if [`Frontend::save_map`] started one.
+    map: Option<MapBuilder>,
 }
 
 impl Frontend {
@@ -107,6 +110,7 @@ impl Frontend {
             projector,
             frames: 0,
             last: None,
+            map: None,
         })
     }
 
@@ -168,6 +172,9 @@ impl Frontend {
     fn process(&mut self, frame: &LidarFrame) -> Result<&FrameOutput, Error> {
         let (result, features) = self.odometry.process_with_features(frame)?;
         self.frames += 1;
+        if let Some(map) = self.map.as_mut() {
+            map.add(frame, &result, Some(&features))?;
+        }
         let keypoint_points = features
             .per_image
             .iter()
@@ -225,6 +232,29 @@ impl Frontend {
         Ok(())
     }
 
+    /// Saves a global map of the frames registered from now on in `dir` (docs/maps.md):
+    /// the world-frame cloud, voxelised, and keyframes with their clouds, keypoints and
+    /// descriptors. [`Frontend::finish_map`] (or dropping the frontend) writes the cloud and
+    /// `map.json`. A map already being saved is finished first.
+    pub fn save_map(&mut self, dir: impl AsRef<Path>, settings: MapConfig) -> Result<(), Error> {
+        self.finish_map()?;
+        let source = format!(
+            "frames fed to keylo's Frontend ({} before the map)",
+            self.frames
+        );
+        self.map = Some(MapBuilder::create(dir.as_ref(), settings, &source)?);
+        Ok(())
+    }
+
+    /// Finishes the map [`Frontend::save_map`] started: writes its cloud and `map.json` and
+    /// returns what `map.json` says (`None` when no map was being saved).
+    pub fn finish_map(&mut self) -> Result<Option<MapManifest>, Error> {
+        match self.map.take() {
+            Some(map) => Ok(Some(map.finish()?)),
+            None => Ok(None),
+        }
+    }
+
     /// The stages, e.g. to reach a registrar's own methods.
     pub fn odometry(&self) -> &Odometry {
         &self.odometry
@@ -264,5 +294,14 @@ fn projection_of(raw: &RawConfig) -> Result<ProjectionConfig, Error> {
                 message,
             })
         }),
+    }
+}
+
+impl Drop for Frontend {
+    /// A map still being saved is finished, so the frames fed so far are kept.
+    fn drop(&mut self) {
+        if let Err(e) = self.finish_map() {
+            tracing::warn!("the map being saved could not be finished: {e}");
+        }
     }
 }

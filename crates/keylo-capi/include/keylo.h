@@ -215,6 +215,24 @@ int32_t keylo_pipeline_set_pose(struct KeyloPipeline *p, const double *matrix);
 // None beyond the rules in the header.
 int32_t keylo_pipeline_reset(struct KeyloPipeline *p);
 
+// Saves a global map of the frames pushed from now on in the folder `dir`: the world-frame
+// cloud, voxelised (map.ply, map.pcd), and keyframes with their clouds, keypoints and
+// descriptors. `settings`: TOML with the keys of a config's `[map]` table (e.g.
+// `"voxel_size = 0.1"`), or NULL for the defaults. `keylo_pipeline_finish_map` (or
+// `keylo_pipeline_free`) completes it. Returns 0, or -1 (bad settings, a folder that cannot
+// be written).
+//
+// # Safety
+// `dir` NUL-terminated; `settings` NULL or NUL-terminated.
+int32_t keylo_pipeline_save_map(struct KeyloPipeline *p, const char *dir, const char *settings);
+
+// Completes the map `keylo_pipeline_save_map` started: writes its cloud and map.json.
+// Returns 0 (also when no map was being saved), or -1.
+//
+// # Safety
+// None beyond the rules in the header.
+int32_t keylo_pipeline_finish_map(struct KeyloPipeline *p);
+
 // Writes the last frame's statistics to `out` (its `size` set by the caller; at least the
 // bytes up to and including `frame`). Returns 0, or -1 before the first frame or when `size`
 // is too small.

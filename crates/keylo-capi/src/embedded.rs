@@ -65,6 +65,21 @@ impl Embedded {
         Ok(())
     }
 
+    /// Starts saving a global map in `dir` ([`Frontend::save_map`]).
+    pub fn save_map(
+        &mut self,
+        dir: &str,
+        settings: keylo::map::MapConfig,
+    ) -> Result<(), CapiError> {
+        Ok(self.frontend.save_map(dir, settings)?)
+    }
+
+    /// Completes the map being saved ([`Frontend::finish_map`]).
+    pub fn finish_map(&mut self) -> Result<(), CapiError> {
+        self.frontend.finish_map()?;
+        Ok(())
+    }
+
     /// Frames registered since the start or the last reset.
     pub fn frames(&self) -> u64 {
         self.frontend.frames()

@@ -67,6 +67,13 @@ fn run(exe: &Path, config: &str, dir: &Path, mode: &str) -> Vec<[f64; 3]> {
         text.contains("error points: xyz is NULL or n is 0"),
         "{text}"
     );
+    assert!(
+        text.contains("map error settings: map.voxel_size = -1: expected a finite value above 0"),
+        "{text}"
+    );
+    let map = keylo::map::Map::open(&dir.join(format!("map_{mode}"))).unwrap();
+    assert_eq!(map.manifest().frames, FRAMES);
+    assert!(map.manifest().points > 1000 && !map.keyframes().is_empty());
     check_degeneracy(&text);
     text.lines()
         .filter_map(|l| l.strip_prefix("pose "))

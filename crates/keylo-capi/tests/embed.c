@@ -86,6 +86,15 @@ int main(int argc, char **argv) {
     if (keylo_pipeline_pose(p, &pose) == KEYLO_CAPI_OK) { fprintf(stderr, "a pose before any frame\n"); return 1; }
     int frames = atoi(argv[3]), points = strcmp(argv[4], "points") == 0;
     printf("keylo %s\n", keylo_version());
+    /* A global map of the frames, in FRAMES_DIR/map_MODE; bad settings are refused first. */
+    char map_dir[4096];
+    snprintf(map_dir, sizeof map_dir, "%s/map_%s", argv[2], argv[4]);
+    if (keylo_pipeline_save_map(p, map_dir, "voxel_size = -1") != KEYLO_CAPI_ERROR) return 1;
+    printf("map error %s\n", keylo_pipeline_error(p));
+    if (keylo_pipeline_save_map(p, map_dir, "voxel_size = 0.1")) {
+        fprintf(stderr, "save_map: %s\n", keylo_pipeline_error(p));
+        return 1;
+    }
     for (int k = 0; k < frames; k++) {
         char path[4096];
         Frame fr;
@@ -125,6 +134,7 @@ int main(int argc, char **argv) {
             return 1;
         }
     }
+    if (keylo_pipeline_finish_map(p)) { fprintf(stderr, "finish_map: %s\n", keylo_pipeline_error(p)); return 1; }
     /* Bad input is an error, not a crash. */
     if (keylo_pipeline_push_points(p, 0.0, NULL, NULL, NULL, 0) != KEYLO_CAPI_ERROR) return 1;
     printf("error %s\n", keylo_pipeline_error(p));

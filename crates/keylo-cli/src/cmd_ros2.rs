@@ -14,6 +14,7 @@ use keylo_ros2::{Ros2Config, Ros2Node};
 
 use crate::journal::Journal;
 use crate::report::{self, Summary, Totals};
+use crate::ros2_map::NodeMap;
 use crate::{configs, resources};
 
 #[derive(Debug, Args)]
@@ -27,6 +28,10 @@ pub struct Ros2Args {
     /// Also write what `keylo run` writes (trajectory, frames.csv, summary.json) here.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Save a global map of the node's frames in DIR (as `keylo run --map-out`; after a
+    /// reset the next map goes to DIR-1, DIR-2, …); settings in `[map]` (docs/maps.md).
+    #[arg(long, value_name = "DIR")]
+    pub map_out: Option<PathBuf>,
     /// End when no cloud came for this many seconds (0: run until Ctrl-C or SIGTERM).
     #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
     pub idle_timeout: f64,
@@ -39,6 +44,13 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     // No config: the built-in defaults (raw cloud, KISS-ICP), not the simulated demo.
     let config = configs::load_or_defaults(&mut registry, args.config.as_deref(), &args.sets)?;
     let ros2 = Ros2Config::from_table(&config.ros2, &config.origin)?;
+    let mut map = match &args.map_out {
+        Some(dir) => {
+            let settings = keylo::map::MapConfig::from_table(&config.map, &config.origin)?;
+            Some(NodeMap::start(dir, settings)?)
+        }
+        None => None,
+    };
     let mut odometry = Odometry::build(&config, &registry)?;
     let mut journal = match &args.out {
         Some(dir) => {
@@ -75,6 +87,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         _ => None,
     };
     let mut node = Ros2Node::start(ros2, &odometry)?;
+    node.want_features(map.as_ref().is_some_and(NodeMap::wants_features));
     if let Err(e) = ctrlc::set_handler(|| {
         STOP.store(true, Ordering::SeqCst);
         keylo::io::ouster::stop_live_sources();
@@ -89,6 +102,9 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     let on_frame = |p: &keylo_ros2::Published| {
         totals.add(p.result);
         totals.odometry_seconds += p.seconds;
+        if let Some(m) = map.as_mut() {
+            m.add(p);
+        }
         trajectory.push(p.result.stamp, p.result.pose);
         if let (Some(f), None) = (latency.as_mut(), &write_error) {
             let line = writeln!(
@@ -133,6 +149,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         None => (node.run(&mut odometry, &STOP, idle, on_frame), Vec::new()),
     };
     let counters: std::collections::BTreeMap<String, u64> = counters.into_iter().collect();
+    let maps = map.map(NodeMap::finish).unwrap_or_default();
     report::log_counters(&counters);
     let (wall_hz, cpu_percent) = clock.rates(totals.frames);
     if !quiet {
@@ -160,6 +177,18 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
             cpu_percent,
             path_length_m: trajectory.path_length(),
             ros2: serde_json::to_value(&stats).ok(),
+            map: (!maps.is_empty()).then(|| {
+                let list: Vec<serde_json::Value> = (maps.iter())
+                    .map(|(dir, m)| {
+                        serde_json::json!({
+                            "dir": dir.display().to_string(),
+                            "points": m.points,
+                            "keyframes": m.keyframes,
+                        })
+                    })
+                    .collect();
+                serde_json::Value::Array(list)
+            }),
             source_counters: counters,
             ..Summary::default()
         };

@@ -26,6 +26,8 @@ mod reference_out;
 mod report;
 mod report_page;
 mod resources;
+#[cfg(feature = "ros2")]
+mod ros2_map;
 mod run_accuracy;
 mod shard;
 mod trajectories;

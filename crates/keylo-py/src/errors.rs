@@ -64,6 +64,7 @@ pub fn frontend(e: keylo::Error) -> PyErr {
         E::Config(c) => ConfigError::new_err(c.to_string()),
         E::Core(c) => core(c),
         E::Plugin(p) => PluginError::new_err(p.to_string()),
+        E::Map(m @ keylo::map::MapError::Config { .. }) => ConfigError::new_err(m.to_string()),
         other => DataError::new_err(other.to_string()),
     }
 }

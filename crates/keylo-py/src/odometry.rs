@@ -6,9 +6,10 @@ use keylo::io::cloud::RawCloud;
 use keylo::{Frontend, Pose};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 use crate::arrays::{matrix_f64, points, pose_stack, vector_f64};
-use crate::config::raw_config;
+use crate::config::{raw_config, table_of};
 use crate::errors::{frontend, DataError, StageError};
 use crate::frames::Frame;
 use crate::result::FrameResult;
@@ -181,6 +182,39 @@ impl Odometry {
             *last = pose;
         }
         Ok(())
+    }
+
+    /// Saves a global map of the frames processed from now on in the folder `dir`
+    /// (docs/maps.md): the world-frame cloud, voxelised (map.ply, map.pcd), and keyframes
+    /// with their clouds, keypoints and descriptors. `settings`: a dict of `[map]` keys
+    /// (e.g. `{"voxel_size": 0.1}`); None: the defaults. `finish_map()` completes it.
+    #[pyo3(signature = (dir, settings=None))]
+    fn save_map(
+        &self,
+        dir: std::path::PathBuf,
+        settings: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<()> {
+        let table = match settings {
+            Some(d) => table_of(d, "")?,
+            None => toml::Table::new(),
+        };
+        let settings = keylo::map::MapConfig::from_table(&table, "save_map(settings)")
+            .map_err(|e| frontend(e.into()))?;
+        self.state()?
+            .frontend
+            .save_map(dir, settings)
+            .map_err(frontend)
+    }
+
+    /// Completes the map `save_map` started (writes its cloud and map.json) and returns
+    /// map.json's contents as a dict; None when no map was being saved.
+    fn finish_map<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let manifest = self.state()?.frontend.finish_map().map_err(frontend)?;
+        let Some(m) = manifest else {
+            return Ok(None);
+        };
+        let json = serde_json::to_string(&m).map_err(|e| DataError::new_err(e.to_string()))?;
+        py.import("json")?.call_method1("loads", (json,)).map(Some)
     }
 
     /// SLAM hook: start over (map, motion and trajectory forgotten).

@@ -43,6 +43,13 @@ pub struct NodeStats {
 /// One registered frame, as the node published it.
 pub struct Published<'a> {
     pub result: &'a FrameResult,
+    /// The frame registered (sensor frame, as the cloud made it).
+    pub frame: &'a LidarFrame,
+    /// What the feature stages made of it, when the node asked for them
+    /// ([`Ros2Node::want_features`]).
+    pub features: Option<&'a FrameFeatures>,
+    /// Resets so far (`keylo/reset`): a new count starts a new trajectory at the identity.
+    pub resets: u64,
     /// The odometry message's stamp (the scan's end, on the cloud's clock), nanoseconds.
     pub stamp_ns: i64,
     /// Time spent in keylo's stages on this frame, seconds.
@@ -92,6 +99,12 @@ pub struct Ros2Node {
 }
 
 impl Ros2Node {
+    /// Asks for every frame's features in [`Published`] (e.g. to save them with a map), on
+    /// top of what the debug topics need.
+    pub fn want_features(&mut self, want: bool) {
+        self.want_features |= want;
+    }
+
     /// Joins DDS and makes the topics of `config` for `odometry`'s pipeline.
     pub fn start(config: Ros2Config, odometry: &Odometry) -> Result<Self, Ros2Error> {
         let base = BaseFrame::new(frames::extrinsic(&config.base_to_lidar).map_err(|message| {
@@ -258,6 +271,9 @@ impl Ros2Node {
         self.stats.frames += 1;
         on_frame(&Published {
             result: &result,
+            frame,
+            features: features.as_ref(),
+            resets: self.stats.resets,
             stamp_ns: end_ns,
             seconds,
             in_node_seconds: held.taken.elapsed().as_secs_f64(),

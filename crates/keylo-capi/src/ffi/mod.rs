@@ -9,6 +9,7 @@
 mod handles;
 mod hooks;
 mod input;
+mod map;
 mod output;
 mod pipeline;
 mod sized;
@@ -24,11 +25,12 @@ pub use pipeline::{keylo_pipeline_error, keylo_pipeline_free, keylo_pipeline_new
 pub use types::*;
 
 /// The source files cbindgen reads for `include/keylo.h`, in header order.
-pub const HEADER_SOURCES: [&str; 6] = [
+pub const HEADER_SOURCES: [&str; 7] = [
     "src/ffi/types.rs",
     "src/ffi/pipeline.rs",
     "src/ffi/input.rs",
     "src/ffi/hooks.rs",
+    "src/ffi/map.rs",
     "src/ffi/output.rs",
     "src/ffi/sized.rs",
 ];
