@@ -25,10 +25,20 @@ pub enum MapCommand {
         /// The file to write: `.ply` or `.pcd`.
         out: PathBuf,
         /// The box's lower corner, "X,Y,Z" (metres, world frame; with --max).
-        #[arg(long, value_name = "X,Y,Z", requires = "max")]
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            requires = "max",
+            allow_hyphen_values = true
+        )]
         min: Option<String>,
         /// The box's upper corner, "X,Y,Z".
-        #[arg(long, value_name = "X,Y,Z", requires = "min")]
+        #[arg(
+            long,
+            value_name = "X,Y,Z",
+            requires = "min",
+            allow_hyphen_values = true
+        )]
         max: Option<String>,
     },
     /// A new map folder with the points and keyframes inside a box.
@@ -36,10 +46,10 @@ pub enum MapCommand {
         /// The map folder.
         map: PathBuf,
         /// The box's lower corner, "X,Y,Z" (metres, world frame).
-        #[arg(long, value_name = "X,Y,Z")]
+        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
         min: String,
         /// The box's upper corner, "X,Y,Z".
-        #[arg(long, value_name = "X,Y,Z")]
+        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
         max: String,
         /// The new map's folder.
         #[arg(long)]

@@ -8,7 +8,8 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use keylo::config::{OnBadFrame, PipelineConfig};
-use keylo::map::MapBuilder;
+use keylo::map::covariance::NoiseModel;
+use keylo::map::{MapBuilder, PoseGraph};
 use keylo::{CoreError, ImageSource, Paced, Pipeline, Prefetched, Trajectory};
 
 use crate::args::RunArgs;
@@ -67,6 +68,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let mut pictures = args
         .images
         .map(|every| Pictures::new(every, out.join("images")));
+    let mut pose_graph = pose_graph_for(&config)?;
     let mut map = match (&args.map_out, map_settings) {
         (Some(dir), Some(settings)) => Some(MapBuilder::create(dir, settings, &info.description)?),
         _ => None,
@@ -79,12 +81,24 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             journal: &mut journal,
             pictures: pictures.as_mut(),
             map: map.as_mut(),
+            pose_graph: pose_graph.as_mut(),
         },
         &mut outcome,
     );
     progress.finish_and_clear();
     // The map holds the frames done, also when the run stopped early.
     let map = map.map(MapBuilder::finish).transpose()?;
+    if let Some(g) = &pose_graph {
+        g.write(&out.join("pose_graph.g2o"))?;
+        if g.fallbacks > 0 {
+            tracing::warn!(
+                "pose_graph.g2o: {} frame(s) had no covariance estimate; their edges use the \
+                 fallback variance {}",
+                g.fallbacks,
+                keylo::map::FALLBACK_VARIANCE
+            );
+        }
+    }
     let (wall_hz, cpu_percent) = clock.rates(outcome.totals.frames);
 
     let mut summary = Summary {
@@ -170,6 +184,32 @@ struct Outputs<'a> {
     journal: &'a mut Journal,
     pictures: Option<&'a mut Pictures>,
     map: Option<&'a mut MapBuilder>,
+    pose_graph: Option<&'a mut PoseGraph>,
+}
+
+/// The pose graph `[output] pose_graph` asks for: keyframes as the map's, covariances with
+/// `[output] covariance_sigma_m` or the registrar's fitted σ.
+fn pose_graph_for(config: &PipelineConfig) -> Result<Option<PoseGraph>> {
+    if !config.output.pose_graph {
+        return Ok(None);
+    }
+    let settings = keylo::map::MapConfig::from_table(&config.map, &config.origin)?;
+    let kind = &config.registrar.kind;
+    let noise = match config.output.covariance_sigma_m {
+        s if s > 0.0 => NoiseModel::plain(s),
+        _ => NoiseModel::fitted(kind).unwrap_or_else(|| {
+            tracing::warn!(
+                "pose_graph.g2o: no fitted noise model for registrar `{kind}`; σ²H⁻¹ with σ = \
+                 0.03 m (set output.covariance_sigma_m)"
+            );
+            NoiseModel::plain(0.03)
+        }),
+    };
+    Ok(Some(PoseGraph::new(
+        settings.keyframe_distance,
+        settings.keyframe_angle_deg,
+        noise,
+    )))
 }
 
 /// The registrar's final local map as `map.ply` (world frame), when it has one.
@@ -279,6 +319,11 @@ fn process_all(
                     .and_then(|()| match (outputs.pictures.as_deref_mut(), &features) {
                         (Some(p), Some(f)) if pictured => p.record(&pipeline.odometry, &frame, f),
                         _ => Ok(()),
+                    })
+                    .map(|()| {
+                        if let Some(g) = outputs.pose_graph.as_deref_mut() {
+                            g.add(&r);
+                        }
                     })
                     .and_then(|()| match outputs.map.as_deref_mut() {
                         Some(m) => m

@@ -13,11 +13,13 @@
 mod accumulate;
 mod builder;
 mod config;
+pub mod covariance;
 mod error;
 mod features_json;
 mod keyframes;
 mod manifest;
 mod open;
+mod pose_graph;
 mod tiles;
 
 pub use builder::MapBuilder;
@@ -26,3 +28,4 @@ pub use error::MapError;
 pub use keyframes::KeyframeRow;
 pub use manifest::{Bounds, MapManifest, FORMAT, VERSION};
 pub use open::Map;
+pub use pose_graph::{PoseGraph, FALLBACK_VARIANCE};

@@ -34,6 +34,15 @@ pub struct OutputConfig {
     /// Write the trajectory files' numbers in their shortest exact form (`1.2345678901234567e0`)
     /// instead of 9 decimals (TUM) or 13 digits (KITTI): read back, bit for bit the poses.
     pub exact: bool,
+    /// Write `pose_graph.g2o`: a `VERTEX_SE3:QUAT` per keyframe (every `[map]`
+    /// `keyframe_distance` m or `keyframe_angle_deg`°) and an `EDGE_SE3:QUAT` between
+    /// consecutive keyframes whose information is keylo's own covariance estimate
+    /// (docs/maps.md).
+    pub pose_graph: bool,
+    /// Residual standard deviation (m) that scales the per-frame covariance `σ² H⁻¹` in the
+    /// pose graph; 0: the value fitted for the registrar against simulated ground truth
+    /// (docs/results/maps.md).
+    pub covariance_sigma_m: f64,
 }
 
 impl Default for OutputConfig {
@@ -45,6 +54,8 @@ impl Default for OutputConfig {
             gt: String::new(),
             on_bad_frame: OnBadFrame::Stop,
             exact: false,
+            pose_graph: false,
+            covariance_sigma_m: 0.0,
         }
     }
 }

@@ -196,9 +196,21 @@ fn resolve_output(raw: &RawConfig) -> Result<OutputConfig, ConfigError> {
         None => return Ok(OutputConfig::default()),
         Some(value) => expect_table(&raw.origin, "output", value)?,
     };
-    parse_params::<OutputConfig>(&table).map_err(|(path, message)| ConfigError::Invalid {
-        origin: raw.origin.clone(),
-        path: format!("output.{path}"),
-        message,
-    })
+    let output =
+        parse_params::<OutputConfig>(&table).map_err(|(path, message)| ConfigError::Invalid {
+            origin: raw.origin.clone(),
+            path: format!("output.{path}"),
+            message,
+        })?;
+    let sigma = output.covariance_sigma_m;
+    if !(sigma.is_finite() && sigma >= 0.0) {
+        return Err(ConfigError::Invalid {
+            origin: raw.origin.clone(),
+            path: "output.covariance_sigma_m".into(),
+            message: format!(
+                "{sigma}: expected 0 (the registrar's fitted value) or a positive number of metres"
+            ),
+        });
+    }
+    Ok(output)
 }

@@ -1,0 +1,161 @@
+//! `keylo run --map-out` and `[output] pose_graph`, then `keylo map info|export|crop` as a
+//! user runs them, and their errors (docs/maps.md).
+
+mod common;
+
+use common::{expect_failure, keylo, small_sim, stdout};
+
+#[test]
+fn a_run_saves_a_map_and_a_pose_graph_and_map_commands_use_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    small_sim(&data, 12);
+    let d = |p: &str| dir.path().join(p).to_str().unwrap().to_string();
+    let o = keylo(
+        &[
+            "run",
+            "--data",
+            &d("data"),
+            "--out",
+            &d("run"),
+            "--map-out",
+            &d("map"),
+            "-q",
+            "--set",
+            "output.pose_graph=true",
+            "--set",
+            "map.keyframe_distance=0.1",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("run/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let points = summary["map"]["points"].as_u64().unwrap();
+    let keyframes = summary["map"]["keyframes"].as_u64().unwrap();
+    assert!(points > 1000 && keyframes >= 3, "{summary}");
+
+    // The graph's vertices are the map's keyframes, one edge between each pair.
+    let g2o = std::fs::read_to_string(dir.path().join("run/pose_graph.g2o")).unwrap();
+    let vertices: Vec<&str> = g2o
+        .lines()
+        .filter(|l| l.starts_with("VERTEX_SE3:QUAT"))
+        .collect();
+    let edges: Vec<&str> = g2o
+        .lines()
+        .filter(|l| l.starts_with("EDGE_SE3:QUAT"))
+        .collect();
+    assert_eq!(
+        (vertices.len() as u64, edges.len() as u64),
+        (keyframes, keyframes - 1)
+    );
+    let csv = std::fs::read_to_string(dir.path().join("map/keyframes.csv")).unwrap();
+    let row1: Vec<&str> = csv.lines().nth(2).unwrap().split(',').collect();
+    let v1: Vec<&str> = vertices[1].split_whitespace().collect();
+    assert_eq!(
+        v1[2].parse::<f64>().unwrap(),
+        row1[3].parse::<f64>().unwrap()
+    );
+    assert!(edges
+        .iter()
+        .all(|e| e.split_whitespace().count() == 3 + 7 + 21));
+
+    let info = keylo(&["map", "info", &d("map")], dir.path());
+    assert!(info.status.success());
+    assert!(
+        stdout(&info).contains(&format!("points       {points} (voxel 0.2 m)")),
+        "{}",
+        stdout(&info)
+    );
+    let export = keylo(&["map", "export", &d("map"), &d("all.pcd")], dir.path());
+    assert!(stdout(&export).contains(&format!("wrote {points} points")));
+    let crop = keylo(
+        &[
+            "map",
+            "crop",
+            &d("map"),
+            "--min",
+            "-2,-2,-2",
+            "--max",
+            "2,2,2",
+            "--out",
+            &d("crop"),
+        ],
+        dir.path(),
+    );
+    assert!(crop.status.success(), "{}", common::stderr(&crop));
+    let cropped = keylo(&["map", "info", "--json", &d("crop")], dir.path());
+    let m: serde_json::Value = serde_json::from_str(&stdout(&cropped)).unwrap();
+    assert!(m["points"].as_u64().unwrap() < points);
+    assert_eq!(m["cropped_from"].as_str().unwrap(), d("map"));
+}
+
+#[test]
+fn bad_maps_and_settings_are_errors_naming_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |p: &str| dir.path().join(p).to_str().unwrap().to_string();
+    expect_failure(
+        &keylo(&["map", "info", &d("nowhere")], dir.path()),
+        2,
+        "nowhere: no such map folder",
+    );
+    std::fs::create_dir(dir.path().join("empty")).unwrap();
+    expect_failure(
+        &keylo(&["map", "info", &d("empty")], dir.path()),
+        2,
+        "this folder is not a keylo map",
+    );
+    let o = keylo(
+        &[
+            "run",
+            "--set",
+            "source.frames=2",
+            "--out",
+            &d("r"),
+            "--map-out",
+            &d("m"),
+            "--set",
+            "map.voxel_size=-1",
+        ],
+        dir.path(),
+    );
+    expect_failure(
+        &o,
+        2,
+        "map.voxel_size = -1: expected a finite value above 0",
+    );
+    assert!(
+        !dir.path().join("m").exists(),
+        "nothing is written before the settings are checked"
+    );
+    let o = keylo(
+        &[
+            "run",
+            "--set",
+            "source.frames=2",
+            "--out",
+            &d("r"),
+            "--set",
+            "output.covariance_sigma_m=-1",
+        ],
+        dir.path(),
+    );
+    expect_failure(&o, 2, "output.covariance_sigma_m");
+    let o = keylo(
+        &[
+            "map",
+            "crop",
+            &d("empty"),
+            "--min",
+            "1,1,1",
+            "--max",
+            "0,0,0",
+            "--out",
+            &d("c"),
+        ],
+        dir.path(),
+    );
+    expect_failure(&o, 2, "lies above --max");
+}

@@ -1,0 +1,150 @@
+//! Pose covariances between frames and keyframes, from keylo's per-frame estimate.
+//!
+//! A registrar's covariance (`Degeneracy::covariance`) is that of a world-frame
+//! perturbation `δ` of the frame's pose: `T_true = exp(δ) · T`. The relative motion
+//! `Δ = T_a⁻¹ · T_b` is then perturbed on the right, `Δ_true = Δ · exp(ε)` with
+//! `ε = Ad(T_b⁻¹) · δ`. Over several frames whose registration errors are independent,
+//! `Σ_ab = Ad(T_b⁻¹) · (Σ_{k=a+1..b} Σ_δk) · Ad(T_b⁻¹)ᵀ` to first order: the world-frame
+//! covariances add, then turn into the last frame's body frame. Twists are `[ρ, φ]`.
+
+use keylo_core::Pose;
+use nalgebra::{Matrix3, Matrix6};
+
+/// A frame's motion covariance: the registrar's `H⁻¹` scaled, plus noise that grows with the
+/// distance `d` the frame moved, `diag((κ_t·d)² I₃, (κ_r·d)² I₃)` (m², rad²): odometry drift
+/// proportional to the distance travelled, which `H⁻¹` (the geometry's constraint on one
+/// alignment) does not see. Fitted per registrar against simulated ground truth
+/// ([`NoiseModel::fitted`], `examples/covariance_nees.rs`, docs/results/maps.md).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NoiseModel {
+    /// Multiplies `H⁻¹` (m²: `σ²` of the residuals).
+    pub scale: f64,
+    /// Translation noise per metre moved (m/m).
+    pub kappa_t: f64,
+    /// Rotation noise per metre moved (rad/m).
+    pub kappa_r: f64,
+}
+
+impl NoiseModel {
+    /// Just `σ² H⁻¹`.
+    pub fn plain(sigma: f64) -> Self {
+        Self {
+            scale: sigma * sigma,
+            kappa_t: 0.0,
+            kappa_r: 0.0,
+        }
+    }
+
+    /// The model fitted for a built-in registrar kind; `None` for others (plugins).
+    pub fn fitted(registrar: &str) -> Option<Self> {
+        FITTED
+            .iter()
+            .find(|(k, _)| *k == registrar)
+            .map(|(_, m)| *m)
+    }
+
+    /// The covariance of a motion whose `H⁻¹` (σ = 1) is `h_inv`, in any frame the distance
+    /// noise is isotropic in (the motion's own), after moving `distance` m.
+    pub fn covariance(&self, h_inv: &Matrix6<f64>, distance: f64) -> Matrix6<f64> {
+        let mut c = h_inv * self.scale;
+        let (t, r) = (
+            (self.kappa_t * distance).powi(2),
+            (self.kappa_r * distance).powi(2),
+        );
+        for k in 0..3 {
+            c[(k, k)] += t;
+            c[(k + 3, k + 3)] += r;
+        }
+        c
+    }
+}
+
+/// The fitted models (`examples/covariance_nees.rs 10 80`: keyframe edges of the simulated
+/// lab and road, seeds 0–4; docs/results/maps.md).
+const FITTED: [(&str, NoiseModel); 1] = [(
+    "kiss-icp",
+    NoiseModel {
+        scale: 6.812920690579615e-3,
+        kappa_t: 3.162277660168379e-2,
+        kappa_r: 5.623413251903491e-3,
+    },
+)];
+
+/// `[[f64; 6]; 6]` (as `Degeneracy::covariance` gives it) as a matrix.
+pub fn matrix(c: &[[f64; 6]; 6]) -> Matrix6<f64> {
+    Matrix6::from_fn(|i, j| c[i][j])
+}
+
+/// The adjoint of `T` on twists `[ρ, φ]`: `exp(Ad(T)·ξ) = T·exp(ξ)·T⁻¹`.
+pub fn adjoint(t: &Pose) -> Matrix6<f64> {
+    let r: Matrix3<f64> = t.rotation.to_rotation_matrix().into_inner();
+    let p = t.translation.vector;
+    let hat = Matrix3::new(0.0, -p.z, p.y, p.z, 0.0, -p.x, -p.y, p.x, 0.0);
+    let mut a = Matrix6::zeros();
+    a.fixed_view_mut::<3, 3>(0, 0).copy_from(&r);
+    a.fixed_view_mut::<3, 3>(0, 3).copy_from(&(hat * r));
+    a.fixed_view_mut::<3, 3>(3, 3).copy_from(&r);
+    a
+}
+
+/// The covariance of the right perturbation `ε` of a relative motion ending at `t_b`, from
+/// the sum of the world-frame covariances of the frames it spans.
+pub fn relative(t_b: &Pose, world_sum: &Matrix6<f64>) -> Matrix6<f64> {
+    let a = adjoint(&t_b.inverse());
+    let c = a * world_sum * a.transpose();
+    (c + c.transpose()) * 0.5
+}
+
+/// The information matrix an `EDGE_SE3:QUAT` line carries for a right-perturbation
+/// covariance `c`, in the order `[Δt, Δθ]` with `Δθ` the rotation vector: how GTSAM's
+/// `readG2o` and Ceres' `pose_graph_3d` read it (checked against GTSAM in the tests). g2o's
+/// own `EdgeSE3` measures rotation by the quaternion's vector part, half the angle, so in g2o
+/// the rotation block weighs 4× less (docs/maps.md). `None` when `c` is singular.
+pub fn g2o_information(c: &Matrix6<f64>) -> Option<Matrix6<f64>> {
+    let info = c.try_inverse()?;
+    let info = (info + info.transpose()) * 0.5;
+    info.iter().all(|v| v.is_finite()).then_some(info)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use keylo_registration::se3;
+    use nalgebra::{Vector3, Vector6};
+
+    fn pose(t: [f64; 3], r: [f64; 3]) -> Pose {
+        Pose::new(Vector3::from(t), Vector3::from(r))
+    }
+
+    #[test]
+    fn the_adjoint_moves_a_twist_through_a_pose() {
+        let t = pose([1.0, -2.0, 0.5], [0.3, -0.2, 1.1]);
+        let xi = Vector6::new(0.01, -0.02, 0.03, 0.002, -0.001, 0.004);
+        let lhs = se3::exp(&(adjoint(&t) * xi));
+        let rhs = t * se3::exp(&xi) * t.inverse();
+        assert!(se3::log(&(lhs.inverse() * rhs)).norm() < 1e-12);
+    }
+
+    /// The first-order relative covariance against perturbations drawn and pushed through
+    /// the poses: `ε = log(Δ⁻¹ · Δ_true)` for `T_true = exp(δ) · T`.
+    #[test]
+    fn relative_covariance_matches_perturbed_poses() {
+        let ta = pose([0.0, 0.0, 0.0], [0.0, 0.0, 0.0]);
+        let tb = pose([3.0, 1.0, -0.5], [0.1, -0.3, 0.8]);
+        // A world-frame δ along each axis in turn: ε must be Ad(T_b⁻¹) δ.
+        for k in 0..6 {
+            let mut delta = Vector6::zeros();
+            delta[k] = 1e-6;
+            let truth_b = se3::exp(&delta) * tb;
+            let eps = se3::log(&((ta.inverse() * tb).inverse() * (ta.inverse() * truth_b)));
+            let want = adjoint(&tb.inverse()) * delta;
+            assert!((eps - want).norm() < 1e-12, "axis {k}: {eps} vs {want}");
+        }
+        let world = Matrix6::from_diagonal(&Vector6::new(1e-4, 2e-4, 3e-4, 1e-6, 2e-6, 3e-6));
+        let c = relative(&tb, &world);
+        let a = adjoint(&tb.inverse());
+        assert!((c - a * world * a.transpose()).norm() < 1e-18);
+        let info = g2o_information(&c).unwrap();
+        assert!((info * c - Matrix6::identity()).norm() < 1e-9);
+    }
+}
