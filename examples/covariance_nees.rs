@@ -8,8 +8,9 @@
 //! `keylo::map::PoseGraph` writes into `pose_graph.g2o`. Two covariances:
 //! - `σ² H⁻¹` alone (σ = 0.03 m), keylo's per-frame estimate summed along the edge;
 //! - keylo's model (`keylo::map::covariance::NoiseModel`): `s · H⁻¹` plus noise growing with
-//!   the distance `d` each frame moved, `diag((κ_t d)² I₃, (κ_r d)² I₃)` (odometry drift is
-//!   proportional to the distance travelled). `s, κ_t, κ_r` are fitted on the keyframe edges
+//!   the distance `d` each frame moved and the angle `a` it turned,
+//!   `diag((κ_t d)² I₃, ((κ_r d)² + (κ_a a)²) I₃)` (odometry drift grows with the motion).
+//!   `s, κ_t, κ_r, κ_a` are fitted on the keyframe edges
 //!   of the first half of the seeds of both scenes (mean NEES 6, and 3 for each of the
 //!   translation and rotation blocks), by a grid search, and checked on the second half.
 //!
@@ -44,7 +45,7 @@ const SCENES: [SceneKind; 2] = [SceneKind::Lab, SceneKind::Road];
 /// covariance `s·A + κ_t²·B + κ_r²·C` split by the model's parameters.
 struct Sample {
     e: Vector6<f64>,
-    parts: [Matrix6<f64>; 3],
+    parts: [Matrix6<f64>; 4],
 }
 
 impl Sample {
@@ -52,30 +53,29 @@ impl Sample {
         self.parts[0] * m.scale
             + self.parts[1] * m.kappa_t.powi(2)
             + self.parts[2] * m.kappa_r.powi(2)
+            + self.parts[3] * m.kappa_a.powi(2)
     }
 }
 
 /// A pose graph edge: from, to, measured motion, covariance.
 type Edge = (usize, usize, Pose, Matrix6<f64>);
 
-/// The three basis models: `H⁻¹`, translation per metre, rotation per metre.
-const BASIS: [NoiseModel; 3] = [
-    NoiseModel {
-        scale: 1.0,
-        kappa_t: 0.0,
-        kappa_r: 0.0,
-    },
-    NoiseModel {
-        scale: 0.0,
-        kappa_t: 1.0,
-        kappa_r: 0.0,
-    },
-    NoiseModel {
-        scale: 0.0,
-        kappa_t: 0.0,
-        kappa_r: 1.0,
-    },
+/// The basis models: `H⁻¹`, translation per metre, rotation per metre, rotation per radian.
+const BASIS: [NoiseModel; 4] = [
+    basis([1.0, 0.0, 0.0, 0.0]),
+    basis([0.0, 1.0, 0.0, 0.0]),
+    basis([0.0, 0.0, 1.0, 0.0]),
+    basis([0.0, 0.0, 0.0, 1.0]),
 ];
+
+const fn basis(v: [f64; 4]) -> NoiseModel {
+    NoiseModel {
+        scale: v[0],
+        kappa_t: v[1],
+        kappa_r: v[2],
+        kappa_a: v[3],
+    }
+}
 
 /// The motions of one simulated run: `(keyframe edges, frames)`, keyframes as a map's
 /// default (1 m or 10°).
@@ -119,7 +119,7 @@ fn run(
                 let (ka, kb) = (taken[a], taken[b]);
                 Sample {
                     e: se3::log(&(measured.inverse() * (truth[ka].inverse() * truth[kb]))),
-                    parts: [edges[0][i].3, edges[1][i].3, edges[2][i].3],
+                    parts: [edges[0][i].3, edges[1][i].3, edges[2][i].3, edges[3][i].3],
                 }
             })
             .collect())
@@ -169,14 +169,20 @@ fn fit(per_scene: &[Vec<&Sample>]) -> NoiseModel {
     kappas_t.extend(logspace(-4.0, 0.0, 17));
     let mut kappas_r = vec![0.0];
     kappas_r.extend(logspace(-5.0, -1.0, 17));
+    let mut kappas_a = vec![0.0];
+    kappas_a.extend(logspace(-3.0, 0.0, 13));
+    let rotations: Vec<(f64, f64)> = (kappas_r.iter())
+        .flat_map(|&r| kappas_a.iter().map(move |&a| (r, a)))
+        .collect();
     let mut best = (f64::INFINITY, NoiseModel::default());
-    for &scale in &logspace(-5.0, 1.0, 37) {
+    for &scale in &logspace(-5.0, 1.0, 25) {
         for &kappa_t in &kappas_t {
-            for &kappa_r in &kappas_r {
+            for &(kappa_r, kappa_a) in &rotations {
                 let model = NoiseModel {
                     scale,
                     kappa_t,
                     kappa_r,
+                    kappa_a,
                 };
                 let cost: f64 = per_scene
                     .iter()
@@ -264,8 +270,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
         println!(
-            "  {name}: NoiseModel {{ scale: {:e}, kappa_t: {:e}, kappa_r: {:e} }}",
-            model.scale, model.kappa_t, model.kappa_r
+            "  {name}: NoiseModel {{ scale: {:e}, kappa_t: {:e}, kappa_r: {:e}, kappa_a: {:e} }}",
+            model.scale, model.kappa_t, model.kappa_r, model.kappa_a
         );
     }
     Ok(())

@@ -52,12 +52,13 @@ impl PoseGraph {
     pub fn add(&mut self, r: &FrameResult) -> bool {
         if let (false, Some(last)) = (self.vertices.is_empty(), self.last_pose) {
             // The frame's motion covariance in its own frame, then in the world frame.
-            let distance = (last.inverse() * r.pose).translation.vector.norm();
+            let motion = last.inverse() * r.pose;
+            let (distance, angle) = (motion.translation.vector.norm(), motion.rotation.angle());
             let h_inv = r.degeneracy.as_ref().and_then(|d| d.covariance(1.0));
             let body = match h_inv {
                 Some(h) => self
                     .noise
-                    .covariance(&relative(&r.pose, &matrix(&h)), distance),
+                    .covariance(&relative(&r.pose, &matrix(&h)), distance, angle),
                 None => {
                     self.fallbacks += 1;
                     Matrix6::identity() * FALLBACK_VARIANCE
