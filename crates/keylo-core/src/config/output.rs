@@ -39,9 +39,9 @@ pub struct OutputConfig {
     /// consecutive keyframes whose information is keylo's own covariance estimate
     /// (docs/maps.md).
     pub pose_graph: bool,
-    /// Residual standard deviation (m) that scales the per-frame covariance `σ² H⁻¹` in the
-    /// pose graph; 0: the value fitted for the registrar against simulated ground truth
-    /// (docs/results/maps.md).
+    /// The pose graph's covariances: 0 uses the noise model fitted for the registrar against
+    /// simulated ground truth (`s·H⁻¹` plus terms growing with each frame's motion;
+    /// docs/results/maps.md); a value σ (m) uses plain `σ² H⁻¹` instead.
     pub covariance_sigma_m: f64,
 }
 
