@@ -57,17 +57,24 @@ impl TiledCloud {
         self.scratch.join(format!("{}_{}.bin", key.0, key.1))
     }
 
-    /// Adds world points with their intensities.
+    /// Adds world points with their intensities (tile by tile: one tile lookup per tile, not
+    /// per point; within a tile in the points' order, so the means are the same).
     pub fn add(&mut self, points: &[Point3<f64>], intensities: &[f32]) -> Result<(), MapError> {
-        for (p, &i) in points.iter().zip(intensities) {
-            let tile = self.tile_of(p);
-            let voxel = voxel_of(p, self.voxel_size);
-            let voxels = self.tile_mut(tile)?;
-            let xyz = [p.x, p.y, p.z];
-            voxels
-                .entry(voxel)
-                .and_modify(|v| v.add(xyz, f64::from(i)))
-                .or_insert_with(|| VoxelMean::first(xyz, f64::from(i)));
+        let mut by_tile: Vec<(TileKey, u32)> = (points.iter().enumerate())
+            .map(|(i, p)| (self.tile_of(p), i as u32))
+            .collect();
+        by_tile.sort_unstable();
+        let size = self.voxel_size;
+        for run in by_tile.chunk_by(|a, b| a.0 == b.0) {
+            let voxels = self.tile_mut(run[0].0)?;
+            for &(_, i) in run {
+                let (p, v) = (&points[i as usize], f64::from(intensities[i as usize]));
+                let xyz = [p.x, p.y, p.z];
+                voxels
+                    .entry(voxel_of(p, size))
+                    .and_modify(|m| m.add(xyz, v))
+                    .or_insert_with(|| VoxelMean::first(xyz, v));
+            }
         }
         let held = self.resident.values().map(|v| v.len()).sum();
         self.peak_resident_voxels = self.peak_resident_voxels.max(held);
