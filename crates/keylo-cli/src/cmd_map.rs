@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
-use clap::Subcommand;
+use clap::{Args, Subcommand};
 use keylo::map::{Bounds, Map};
 
 #[derive(Debug, Subcommand)]
@@ -24,53 +24,64 @@ pub enum MapCommand {
         map: PathBuf,
         /// The file to write: `.ply` or `.pcd`.
         out: PathBuf,
-        /// The box's lower corner, "X,Y,Z" (metres, world frame; with --max).
-        #[arg(
-            long,
-            value_name = "X,Y,Z",
-            requires = "max",
-            allow_hyphen_values = true
-        )]
-        min: Option<String>,
-        /// The box's upper corner, "X,Y,Z".
-        #[arg(
-            long,
-            value_name = "X,Y,Z",
-            requires = "min",
-            allow_hyphen_values = true
-        )]
-        max: Option<String>,
+        #[command(flatten)]
+        within: Corners,
     },
-    /// A new map folder with the points and keyframes inside a box.
+    /// A new map folder with the points and keyframes inside a box (--min and --max).
     Crop {
         /// The map folder.
         map: PathBuf,
-        /// The box's lower corner, "X,Y,Z" (metres, world frame).
-        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-        min: String,
-        /// The box's upper corner, "X,Y,Z".
-        #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-        max: String,
+        #[command(flatten)]
+        within: Corners,
         /// The new map's folder.
         #[arg(long)]
         out: PathBuf,
     },
 }
 
+/// A box in the world frame, by two corners.
+#[derive(Debug, Args)]
+pub struct Corners {
+    /// The box's lower corner, "X,Y,Z" (metres, world frame; with --max).
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        requires = "max",
+        allow_hyphen_values = true
+    )]
+    min: Option<String>,
+    /// The box's upper corner, "X,Y,Z" (with --min).
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        requires = "min",
+        allow_hyphen_values = true
+    )]
+    max: Option<String>,
+}
+
+impl Corners {
+    /// The box, when both corners are given; the error names a corner that does not parse.
+    fn bounds(&self) -> Result<Option<Bounds>> {
+        match (&self.min, &self.max) {
+            (Some(min), Some(max)) => bounds(min, max).map(Some),
+            _ => Ok(None),
+        }
+    }
+}
+
 pub fn run(cmd: MapCommand) -> Result<ExitCode> {
     match cmd {
         MapCommand::Info { map, json } => info(&map, json),
-        MapCommand::Export { map, out, min, max } => {
-            let within = match (min, max) {
-                (Some(min), Some(max)) => Some(bounds(&min, &max)?),
-                _ => None,
-            };
-            let n = Map::open(&map)?.export(&out, within.as_ref())?;
+        MapCommand::Export { map, out, within } => {
+            let n = Map::open(&map)?.export(&out, within.bounds()?.as_ref())?;
             println!("wrote {n} points to {}", out.display());
             Ok(ExitCode::SUCCESS)
         }
-        MapCommand::Crop { map, min, max, out } => {
-            let within = bounds(&min, &max)?;
+        MapCommand::Crop { map, within, out } => {
+            let Some(within) = within.bounds()? else {
+                bail!("keylo map crop needs the box: --min X,Y,Z --max X,Y,Z");
+            };
             let m = Map::open(&map)?.crop(&within, &out)?;
             println!(
                 "wrote {} ({} points, {} keyframes)",

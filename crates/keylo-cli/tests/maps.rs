@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{expect_failure, keylo, small_sim, stdout};
+use common::{expect_failure, keylo, keylo_line, small_sim, stdout};
 
 #[test]
 fn a_run_saves_a_map_and_a_pose_graph_and_map_commands_use_it() {
@@ -107,22 +107,15 @@ fn bad_maps_and_settings_are_errors_naming_them() {
         2,
         "this folder is not a keylo map",
     );
-    let o = keylo(
-        &[
-            "run",
-            "--set",
-            "source.frames=2",
-            "--out",
-            &d("r"),
-            "--map-out",
-            &d("m"),
-            "--set",
-            "map.voxel_size=-1",
-        ],
-        dir.path(),
-    );
+    // Run in the temporary folder: relative paths.
+    let run = |extra: &str| {
+        keylo_line(
+            &format!("run --set source.frames=2 --out r {extra}"),
+            dir.path(),
+        )
+    };
     expect_failure(
-        &o,
+        &run("--map-out m --set map.voxel_size=-1"),
         2,
         "map.voxel_size = -1: expected a finite value above 0",
     );
@@ -130,32 +123,11 @@ fn bad_maps_and_settings_are_errors_naming_them() {
         !dir.path().join("m").exists(),
         "nothing is written before the settings are checked"
     );
-    let o = keylo(
-        &[
-            "run",
-            "--set",
-            "source.frames=2",
-            "--out",
-            &d("r"),
-            "--set",
-            "output.covariance_sigma_m=-1",
-        ],
-        dir.path(),
+    expect_failure(
+        &run("--set output.covariance_sigma_m=-1"),
+        2,
+        "output.covariance_sigma_m",
     );
-    expect_failure(&o, 2, "output.covariance_sigma_m");
-    let o = keylo(
-        &[
-            "map",
-            "crop",
-            &d("empty"),
-            "--min",
-            "1,1,1",
-            "--max",
-            "0,0,0",
-            "--out",
-            &d("c"),
-        ],
-        dir.path(),
-    );
-    expect_failure(&o, 2, "lies above --max");
+    let crop = keylo_line("map crop empty --min 1,1,1 --max 0,0,0 --out c", dir.path());
+    expect_failure(&crop, 2, "lies above --max");
 }
