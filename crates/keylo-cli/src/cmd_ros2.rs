@@ -87,6 +87,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         _ => None,
     };
     let mut node = Ros2Node::start(ros2, &odometry)?;
+    node.set_registrar(&config.registrar.kind);
     node.want_features(map.as_ref().is_some_and(NodeMap::wants_features));
     if let Err(e) = ctrlc::set_handler(|| {
         STOP.store(true, Ordering::SeqCst);

@@ -62,6 +62,25 @@ impl NoiseModel {
     }
 }
 
+/// The world-frame covariance (a perturbation `T_true = exp(δ)·T`, as the registrars'
+/// `H⁻¹`) of the frame at `pose` under `noise`, given its `H⁻¹` (σ = 1, world frame) and the
+/// previous frame's pose (`None`: no motion terms).
+pub fn frame_covariance(
+    noise: &NoiseModel,
+    h_inv_world: &Matrix6<f64>,
+    pose: &Pose,
+    last: Option<&Pose>,
+) -> Matrix6<f64> {
+    let (distance, angle) = last.map_or((0.0, 0.0), |l| {
+        let m = l.inverse() * pose;
+        (m.translation.vector.norm(), m.rotation.angle())
+    });
+    let body = noise.covariance(&relative(pose, h_inv_world), distance, angle);
+    let a = adjoint(pose);
+    let c = a * body * a.transpose();
+    (c + c.transpose()) * 0.5
+}
+
 /// The fitted models (`examples/covariance_nees.rs 10 80`: keyframe edges of the simulated
 /// lab and road, seeds 0–4; checked on seeds 5–9, docs/results/maps.md).
 const FITTED: [(&str, NoiseModel); 3] = [
@@ -147,6 +166,45 @@ mod tests {
         let lhs = se3::exp(&(adjoint(&t) * xi));
         let rhs = t * se3::exp(&xi) * t.inverse();
         assert!(se3::log(&(lhs.inverse() * rhs)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn a_frames_covariance_adds_the_motion_terms_in_its_own_frame() {
+        let last = pose([1.0, 0.0, 0.0], [0.0, 0.0, 0.2]);
+        let now = pose([1.8, 0.6, 0.0], [0.0, 0.0, 0.5]);
+        let h = Matrix6::from_diagonal(&Vector6::new(1.0, 2.0, 3.0, 0.1, 0.2, 0.3));
+        let noise = NoiseModel {
+            scale: 0.01,
+            kappa_t: 0.05,
+            kappa_r: 0.003,
+            kappa_a: 0.2,
+        };
+        // Without motion terms: s·H⁻¹, in the world frame, as given.
+        let plain = frame_covariance(
+            &NoiseModel {
+                kappa_t: 0.0,
+                kappa_r: 0.0,
+                kappa_a: 0.0,
+                ..noise
+            },
+            &h,
+            &now,
+            Some(&last),
+        );
+        assert!((plain - h * 0.01).norm() < 1e-15);
+        // With them: in the frame's own frame, the diagonal grows by (κ_t d)² and (κ_r d)² + (κ_a a)².
+        let c = frame_covariance(&noise, &h, &now, Some(&last));
+        let body = relative(&now, &(c - plain));
+        let (d, a): (f64, f64) = (1.0, 0.3);
+        let want = Vector6::new(0.05f64.powi(2), 0.0025, 0.0025, 0.0, 0.0, 0.0) * d * d
+            + Vector6::new(0.0, 0.0, 0.0, 1.0, 1.0, 1.0)
+                * ((0.003 * d).powi(2) + (0.2 * a).powi(2));
+        assert!(
+            (body - Matrix6::from_diagonal(&want)).norm() < 1e-12,
+            "{body}"
+        );
+        // The first frame has no motion.
+        assert!((frame_covariance(&noise, &h, &now, None) - h * 0.01).norm() < 1e-15);
     }
 
     /// The first-order relative covariance against perturbations drawn and pushed through

@@ -9,7 +9,7 @@ use std::path::Path;
 use keylo_core::{FrameResult, Pose};
 use nalgebra::Matrix6;
 
-use crate::covariance::{adjoint, g2o_information, matrix, relative, NoiseModel};
+use crate::covariance::{frame_covariance, g2o_information, matrix, relative, NoiseModel};
 use crate::keyframes::KeyframePolicy;
 use crate::MapError;
 
@@ -51,21 +51,14 @@ impl PoseGraph {
     /// Adds a registered frame; returns whether it became a keyframe (a vertex).
     pub fn add(&mut self, r: &FrameResult) -> bool {
         if let (false, Some(last)) = (self.vertices.is_empty(), self.last_pose) {
-            // The frame's motion covariance in its own frame, then in the world frame.
-            let motion = last.inverse() * r.pose;
-            let (distance, angle) = (motion.translation.vector.norm(), motion.rotation.angle());
             let h_inv = r.degeneracy.as_ref().and_then(|d| d.covariance(1.0));
-            let body = match h_inv {
-                Some(h) => self
-                    .noise
-                    .covariance(&relative(&r.pose, &matrix(&h)), distance, angle),
+            self.since_keyframe += match h_inv {
+                Some(h) => frame_covariance(&self.noise, &matrix(&h), &r.pose, Some(&last)),
                 None => {
                     self.fallbacks += 1;
                     Matrix6::identity() * FALLBACK_VARIANCE
                 }
             };
-            let a = adjoint(&r.pose);
-            self.since_keyframe += a * body * a.transpose();
         }
         self.last_pose = Some(r.pose);
         if !self.policy.take(&r.pose) {

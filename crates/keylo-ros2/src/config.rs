@@ -54,8 +54,9 @@ pub struct Ros2Config {
     /// Clouds waiting for registration at most: when registration falls behind, the oldest
     /// waiting cloud is dropped (and counted).
     pub max_pending_clouds: usize,
-    /// Residual standard deviation (m) scaling keylo's per-frame information into the pose
-    /// covariance `σ² H⁻¹`.
+    /// The pose covariance: 0 uses the noise model fitted for the registrar against simulated
+    /// ground truth (`s·H⁻¹` plus terms growing with the frame's motion, the pose graph's;
+    /// docs/results/maps.md); a value σ (m) uses plain `σ² H⁻¹`.
     pub residual_sigma_m: f64,
     /// Position variance (m²) used when the registrar gives no covariance for a frame
     /// (KISS-ICP's node uses this constant for every frame).
@@ -98,7 +99,7 @@ impl Default for Ros2Config {
             base_to_lidar: vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],
             domain_id: None,
             max_pending_clouds: 2,
-            residual_sigma_m: 0.03,
+            residual_sigma_m: 0.0,
             position_covariance: 0.1,
             orientation_covariance: 0.1,
             reset_topic: "keylo/reset".into(),
@@ -145,8 +146,14 @@ impl Ros2Config {
         if self.max_pending_clouds == 0 {
             return Err("ros2.max_pending_clouds is 0; expected at least 1".into());
         }
+        let sigma = self.residual_sigma_m;
+        if !(sigma.is_finite() && sigma >= 0.0) {
+            return Err(format!(
+                "ros2.residual_sigma_m is {sigma}; expected 0 (the fitted noise model) or a \
+                 positive number of metres"
+            ));
+        }
         for (key, v) in [
-            ("residual_sigma_m", self.residual_sigma_m),
             ("position_covariance", self.position_covariance),
             ("orientation_covariance", self.orientation_covariance),
         ] {

@@ -15,6 +15,7 @@ impl Ros2Node {
                 Ok(()) => {
                     self.previous = None;
                     self.last_raw_base = None;
+                    self.last_lidar = None;
                     self.anchor = Isometry3::identity();
                     self.cloud_frame = None;
                     self.path.clear();

@@ -20,7 +20,8 @@ pub struct OdometryParts<'a> {
     pub anchor: &'a Isometry3<f64>,
     /// The pose published: `anchor · base.base_pose(r.pose)`.
     pub base_pose: Isometry3<f64>,
-    pub sigma: f64,
+    /// The frame's covariance (world frame, keylo's twist order), when it has an estimate.
+    pub covariance: Option<[[f64; 6]; 6]>,
     /// Fallback `(position, orientation)` variances.
     pub fallback: (f64, f64),
 }
@@ -29,10 +30,8 @@ pub struct OdometryParts<'a> {
 /// own estimate (false: the fixed fallback diagonal).
 pub fn odometry(r: &FrameResult, p: &OdometryParts) -> (msgs::Odometry, bool) {
     let base_pose = p.base_pose;
-    let estimated = r
-        .degeneracy
-        .as_ref()
-        .and_then(|d| d.covariance(p.sigma))
+    let estimated = p
+        .covariance
         .filter(|c| c.iter().flatten().all(|v| v.is_finite()))
         .map(|c| frames::rotate_covariance(&p.base.pose_covariance(&r.pose, &c), p.anchor));
     let pose_cov =

@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use keylo_core::{FrameFeatures, FrameResult, LidarFrame, Odometry};
 use keylo_io::cloud::{ProjectionConfig, Projector, Sensor};
 use keylo_io::ros::CloudFramer;
+use keylo_map::covariance::{frame_covariance, matrix, NoiseModel};
 use nalgebra::Isometry3;
 
 use crate::dds::Dds;
@@ -96,9 +97,36 @@ pub struct Ros2Node {
     pub(crate) stats: NodeStats,
     pub(crate) want_features: bool,
     pub(crate) pending_prior: bool,
+    /// The last frame's LiDAR pose (keylo's own), for the covariance's motion terms.
+    pub(crate) last_lidar: Option<Isometry3<f64>>,
+    /// How a frame's `H⁻¹` becomes its covariance.
+    pub(crate) noise: NoiseModel,
 }
 
 impl Ros2Node {
+    /// Sets the covariance's noise model for the pipeline's registrar `kind`: with
+    /// `ros2.residual_sigma_m = 0` the model fitted for it (plain `σ² H⁻¹` with σ = 0.03 m and
+    /// a warning for a registrar without one), else plain `σ² H⁻¹` with the configured σ.
+    pub fn set_registrar(&mut self, kind: &str) {
+        self.noise = match self.config.residual_sigma_m {
+            s if s > 0.0 => NoiseModel::plain(s),
+            _ => NoiseModel::fitted(kind).unwrap_or_else(|| {
+                tracing::warn!(
+                    "ros2: no fitted covariance model for registrar `{kind}`; σ²H⁻¹ with σ = \
+                     0.03 m (set ros2.residual_sigma_m)"
+                );
+                NoiseModel::plain(0.03)
+            }),
+        };
+    }
+
+    /// The frame's covariance in the world frame, when the registrar estimated `H`.
+    fn frame_covariance(&self, r: &FrameResult) -> Option<[[f64; 6]; 6]> {
+        let h = r.degeneracy.as_ref()?.covariance(1.0)?;
+        let c = frame_covariance(&self.noise, &matrix(&h), &r.pose, self.last_lidar.as_ref());
+        Some(std::array::from_fn(|i| std::array::from_fn(|j| c[(i, j)])))
+    }
+
     /// Asks for every frame's features in [`Published`] (e.g. to save them with a map), on
     /// top of what the debug topics need.
     pub fn want_features(&mut self, want: bool) {
@@ -144,6 +172,8 @@ impl Ros2Node {
             next_index: 0,
             stats: NodeStats::default(),
             pending_prior: false,
+            last_lidar: None,
+            noise: NoiseModel::plain(0.03),
         })
     }
 
@@ -311,7 +341,7 @@ impl Ros2Node {
                 base: &self.base,
                 anchor: &self.anchor,
                 base_pose,
-                sigma: self.config.residual_sigma_m,
+                covariance: self.frame_covariance(r),
                 fallback: (
                     self.config.position_covariance,
                     self.config.orientation_covariance,
@@ -322,6 +352,7 @@ impl Ros2Node {
             self.stats.fallback_covariances += 1;
         }
         self.last_raw_base = Some(raw_base);
+        self.last_lidar = Some(r.pose);
         self.previous = Some((base_pose, r.stamp));
         let w = &self.dds.writers;
         let topic = &self.config.odometry_topic;
