@@ -147,12 +147,17 @@ impl FrontendBuilder {
         let raw = self.config.raw()?;
         let registry = self.registry.unwrap_or_else(crate::registry);
         let mut odometry = super::odometry_of(&raw, registry)?;
+        let own_registrar = self.registrar.is_some();
         if let Some(r) = self.registrar {
             odometry.registrar = r;
         }
         if let Some(d) = self.downsampler {
             odometry.downsampler = d;
         }
-        Frontend::with_odometry(odometry, &self.projection)
+        let mut frontend = Frontend::with_odometry(odometry, &self.projection)?;
+        if !own_registrar {
+            frontend.set_noise_model(super::noise_of(&raw));
+        }
+        Ok(frontend)
     }
 }

@@ -60,6 +60,7 @@ use keylo_core::config::RawConfig;
 use keylo_core::registry::parse_params;
 use keylo_core::{BeamGeometry, LidarFrame, Odometry, Pose, Registry};
 use keylo_io::cloud::{ProjectionConfig, Projector, RawCloud, Sensor};
+use keylo_map::covariance::{frame_covariance, matrix, NoiseModel};
 use keylo_map::{MapBuilder, MapConfig, MapManifest};
 use nalgebra::Point3;
 
@@ -76,6 +77,8 @@ pub struct Frontend {
     last: Option<FrameOutput>,
     /// The global map being saved, if [`Frontend::save_map`] started one.
     map: Option<MapBuilder>,
+    /// How a frame's `H⁻¹` becomes [`FrameOutput::fitted_covariance`].
+    noise: NoiseModel,
 }
 
 impl Frontend {
@@ -97,7 +100,16 @@ impl Frontend {
     pub fn from_raw(raw: RawConfig, registry: Registry) -> Result<Self, Error> {
         let projection = projection_of(&raw)?;
         let odometry = odometry_of(&raw, registry)?;
-        Self::with_odometry(odometry, &projection)
+        let mut frontend = Self::with_odometry(odometry, &projection)?;
+        frontend.set_noise_model(noise_of(&raw));
+        Ok(frontend)
+    }
+
+    /// How [`FrameOutput::fitted_covariance`] is made: by default the model fitted for the
+    /// config's registrar (`NoiseModel::fitted`), plain `σ² H⁻¹` with σ = 0.03 m for others
+    /// and for stages built by hand.
+    pub fn set_noise_model(&mut self, noise: NoiseModel) {
+        self.noise = noise;
     }
 
     /// A frontend around stages you built (or changed) yourself.
@@ -111,6 +123,7 @@ impl Frontend {
             frames: 0,
             last: None,
             map: None,
+            noise: NoiseModel::plain(0.03),
         })
     }
 
@@ -180,10 +193,20 @@ impl Frontend {
             .iter()
             .map(|c| keylo_core::keypoint_points(frame, c))
             .collect();
+        let fitted_covariance = result
+            .degeneracy
+            .as_ref()
+            .and_then(|d| d.covariance(1.0))
+            .map(|h| {
+                let last = self.last.as_ref().map(|l| l.result.pose);
+                let c = frame_covariance(&self.noise, &matrix(&h), &result.pose, last.as_ref());
+                std::array::from_fn(|i| std::array::from_fn(|j| c[(i, j)]))
+            });
         Ok(self.last.insert(FrameOutput {
             result,
             features,
             keypoint_points,
+            fitted_covariance,
         }))
     }
 
@@ -276,6 +299,16 @@ pub(crate) fn odometry_of(raw: &RawConfig, registry: Registry) -> Result<Odometr
     keylo_plugin::load_for_config(&mut registry, &raw)?;
     let config = registry.resolve(&raw)?;
     Ok(Odometry::build(&config, &registry)?)
+}
+
+/// The noise model fitted for `raw`'s registrar kind (KISS-ICP when it names none), else
+/// plain `σ² H⁻¹` with σ = 0.03 m.
+pub(crate) fn noise_of(raw: &RawConfig) -> NoiseModel {
+    let kind = (raw.table.get("registrar"))
+        .and_then(|r| r.get("kind"))
+        .and_then(toml::Value::as_str)
+        .unwrap_or("kiss-icp");
+    NoiseModel::fitted(kind).unwrap_or_else(|| NoiseModel::plain(0.03))
 }
 
 /// `[source.projection]` of `raw`, or the default projection.

@@ -15,6 +15,10 @@ pub struct FrameOutput {
     /// `keypoint_points[i][j]`: the sensor-frame point under keypoint `j` of image `i`,
     /// `None` when no return lies under it ([`keylo_core::keypoint_points`]).
     pub keypoint_points: Vec<Vec<Option<Point3<f64>>>>,
+    /// The frame's pose covariance under the noise model fitted for the registrar (world
+    /// frame, twist `[tx, ty, tz, rx, ry, rz]`): what the pose graph and `keylo ros2` use
+    /// (docs/maps.md); `None` without a degeneracy analysis.
+    pub fitted_covariance: Option<[[f64; 6]; 6]>,
 }
 
 /// One keypoint of a [`FrameOutput`] with everything known about it.

@@ -266,6 +266,15 @@ int32_t keylo_pipeline_degeneracy(struct KeyloPipeline *p, struct KeyloDegenerac
 // `out` NULL or pointing to 36 writable doubles.
 int32_t keylo_pipeline_covariance(struct KeyloPipeline *p, double sigma, double *out);
 
+// The last frame's pose covariance under the noise model fitted for the registrar
+// (row-major 6x6 into `out`, twist `[tx, ty, tz, rx, ry, rz]`, world frame): what keylo's
+// pose graph and ROS 2 node use (docs/maps.md). Returns 0; 1 when the frame has no
+// degeneracy analysis (`out` untouched); -1 on error.
+//
+// # Safety
+// `out` NULL or pointing to 36 writable doubles.
+int32_t keylo_pipeline_fitted_covariance(struct KeyloPipeline *p, double *out);
+
 // The last frame's registered cloud (what the downsampler gave the registrar) in the world
 // frame: `*xyz` receives `3 * *n` doubles, valid until the next call on `p`. Returns 0, or -1.
 //

@@ -75,6 +75,13 @@ fn run(exe: &Path, config: &str, dir: &Path, mode: &str) -> Vec<[f64; 3]> {
     assert_eq!(map.manifest().frames, FRAMES);
     assert!(map.manifest().points > 1000 && !map.keyframes().is_empty());
     check_degeneracy(&text);
+    assert!(
+        text.lines()
+            .filter(|l| l.starts_with("covariance "))
+            .count()
+            >= FRAMES - 1,
+        "{text}"
+    );
     text.lines()
         .filter_map(|l| l.strip_prefix("pose "))
         .map(|l| {

@@ -129,6 +129,16 @@ int main(int argc, char **argv) {
             for (int j = 0; j < 6; j++) norm += d.eigenvectors[j] * d.eigenvectors[j];
             printf("degeneracy %d %u %.6g %.6g %.6g %.6f %llu\n", k, d.weak, d.condition, d.eigenvalues[0],
                    d.eigenvalues[5], sqrt(norm), (unsigned long long)d.residuals);
+            /* The fitted covariance: symmetric, a positive diagonal. */
+            double c[36];
+            if (keylo_pipeline_fitted_covariance(p, c) != KEYLO_CAPI_OK) { fprintf(stderr, "frame %d: no fitted covariance\n", k); return 1; }
+            for (int i = 0; i < 6; i++)
+                for (int j = 0; j < 6; j++)
+                    if (!(c[6 * i + i] > 0.0) || fabs(c[6 * i + j] - c[6 * j + i]) > 1e-12 * (fabs(c[6 * i + j]) + 1e-30)) {
+                        fprintf(stderr, "frame %d: fitted covariance not symmetric with a positive diagonal\n", k);
+                        return 1;
+                    }
+            printf("covariance %d %.6g %.6g\n", k, c[0], c[35]);
         } else {
             fprintf(stderr, "frame %d: %s\n", k, keylo_pipeline_error(p));
             return 1;

@@ -119,6 +119,15 @@ impl FrameResult {
         Some(Array2::from_shape_fn((6, 6), |(r, k)| c[r][k]).into_pyarray(py))
     }
 
+    /// The 6×6 pose covariance under the noise model fitted for the registrar (twist
+    /// `[tx, ty, tz, rx, ry, rz]`, world frame): what keylo's pose graph and ROS 2 node use
+    /// (docs/maps.md); None without an analysis.
+    #[getter]
+    fn fitted_covariance<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray2<f64>>> {
+        let c = self.out.fitted_covariance?;
+        Some(Array2::from_shape_fn((6, 6), |(r, k)| c[r][k]).into_pyarray(py))
+    }
+
     /// Per image: `image` (name), `xy` (N×2 float32), `size`, `angle`, `response` (N),
     /// `points` (N×3 float64 sensor-frame point under each keypoint, NaN over no return) and
     /// `descriptors` (N×D uint8 or float32, or None).

@@ -40,3 +40,18 @@ def test_bad_map_settings_are_config_errors(tmp_path):
         odometry.save_map(tmp_path / "m", {"voxel_size": -1.0})
     with pytest.raises(keylo.ConfigError, match=r"unknown field `voxel`"):
         odometry.save_map(tmp_path / "m", {"voxel": 1.0})
+
+
+def test_frames_carry_the_fitted_covariance(sim_bins):
+    """The covariance keylo's pose graph and ROS 2 node use: symmetric, positive definite,
+    and wider than plain sigma^2 H^-1 with sigma = 0.03 m (the motion terms)."""
+    import numpy as np
+    odometry = keylo.Odometry(CONFIG)
+    results = [odometry.process_frame(f) for f in keylo.open(sim_bins)]
+    assert results[0].fitted_covariance is None or results[0].degeneracy is not None
+    for r in results[1:]:
+        c = r.fitted_covariance
+        assert c.shape == (6, 6)
+        np.testing.assert_allclose(c, c.T, rtol=1e-9, atol=1e-18)
+        assert np.linalg.eigvalsh(c).min() > 0
+        assert np.trace(c) > np.trace(r.covariance(0.03))

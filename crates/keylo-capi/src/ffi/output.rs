@@ -163,6 +163,42 @@ pub unsafe extern "C" fn keylo_pipeline_covariance(
     })
 }
 
+/// The last frame's pose covariance under the noise model fitted for the registrar
+/// (row-major 6x6 into `out`, twist `[tx, ty, tz, rx, ry, rz]`, world frame): what keylo's
+/// pose graph and ROS 2 node use (docs/maps.md). Returns 0; 1 when the frame has no
+/// degeneracy analysis (`out` untouched); -1 on error.
+///
+/// # Safety
+/// `out` NULL or pointing to 36 writable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn keylo_pipeline_fitted_covariance(
+    p: *mut KeyloPipeline,
+    out: *mut f64,
+) -> i32 {
+    let mut wrote = false;
+    let rc = with(p, |e| {
+        if out.is_null() {
+            return Err(CapiError::Argument("out is NULL".into()));
+        }
+        let o = e
+            .last()
+            .ok_or_else(|| CapiError::Argument("no frame processed yet".into()))?;
+        if let Some(c) = o.fitted_covariance {
+            // SAFETY: 36 writable doubles per the contract.
+            let out = unsafe { std::slice::from_raw_parts_mut(out, 36) };
+            for (row, values) in out.chunks_exact_mut(6).zip(c) {
+                row.copy_from_slice(&values);
+            }
+            wrote = true;
+        }
+        Ok(())
+    });
+    match rc {
+        KEYLO_CAPI_OK if !wrote => KEYLO_CAPI_NOT_ANALYSED,
+        rc => rc,
+    }
+}
+
 /// Lends `xyz` to the caller: `*ptr` and `*n` (points).
 ///
 /// # Safety
