@@ -44,6 +44,9 @@ pub enum Command {
     /// and sweep image size × interpolation.
     #[command(subcommand)]
     Keypoints(crate::keypoints::KeypointsCommand),
+    /// Localise the frames of some data in a saved map: each frame registered against the
+    /// map's fixed cloud, with a fitness and a tracking flag (docs/maps.md).
+    Localise(crate::cmd_localise::LocaliseArgs),
     /// The chores on a saved map folder (`keylo run … --map-out DIR`): info, export, crop.
     #[command(subcommand)]
     Map(crate::cmd_map::MapCommand),

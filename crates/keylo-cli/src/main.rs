@@ -7,6 +7,7 @@ mod cmd_config;
 mod cmd_convert;
 mod cmd_eval;
 mod cmd_info;
+mod cmd_localise;
 mod cmd_map;
 mod cmd_plugins;
 #[cfg(feature = "ros2")]
@@ -74,6 +75,7 @@ fn main() -> ExitCode {
         Command::Config(a) => cmd_config::run(a),
         Command::Plugins(a) => cmd_plugins::run(a),
         Command::Map(a) => cmd_map::run(a),
+        Command::Localise(a) => cmd_localise::run(a, cli.quiet),
         Command::Compare(a) => compare::run(a, cli.threads, cli.quiet),
         Command::Report(a) => report_page::run(a, cli.quiet),
         Command::Keypoints(a) => keypoints::run(a, cli.threads, cli.quiet),

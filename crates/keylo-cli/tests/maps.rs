@@ -131,3 +131,49 @@ fn bad_maps_and_settings_are_errors_naming_them() {
     let crop = keylo_line("map crop empty --min 1,1,1 --max 0,0,0 --out c", dir.path());
     expect_failure(&crop, 2, "lies above --max");
 }
+
+#[test]
+fn a_run_is_localised_in_its_own_map_and_bad_poses_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    small_sim(&dir.path().join("data"), 10);
+    let o = keylo_line("run --data data --out run --map-out map -q", dir.path());
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let o = keylo_line(
+        "localise map --data data --out loc --set localise.voxel_size=0.3",
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    assert!(stdout(&o).contains("10 frames in map"), "{}", stdout(&o));
+    let rows = common::read_csv(&dir.path().join("loc/localise.csv"));
+    assert_eq!(rows.len(), 10);
+    assert!(rows.iter().all(|r| r["tracking"] == "true"), "{rows:?}");
+    let tum = std::fs::read_to_string(dir.path().join("loc/trajectory.tum")).unwrap();
+    assert_eq!(tum.lines().filter(|l| !l.starts_with('#')).count(), 10);
+
+    let bad = |pose: &str, needle: &str| {
+        let o = keylo(
+            &[
+                "localise",
+                "map",
+                "--data",
+                "data",
+                "--out",
+                "x",
+                "--initial-pose",
+                pose,
+            ],
+            dir.path(),
+        );
+        expect_failure(&o, 2, needle);
+    };
+    bad("1 2 3", "3 numbers; expected seven");
+    bad("0 0 0 0 0 0 2", "the quaternion's norm is 2");
+    bad("0 0 0 0 0 x 1", "expected seven numbers");
+    let o = keylo_line(
+        "localise map --data data --out x --set localise.min_fitness=2",
+        dir.path(),
+    );
+    expect_failure(&o, 2, "localise.min_fitness = 2: expected 0..=1");
+    let o = keylo_line("localise nowhere --data data --out x", dir.path());
+    expect_failure(&o, 2, "nowhere: no such map folder");
+}

@@ -54,19 +54,7 @@ impl MapConfig {
     /// The settings of a config's `[map]` table (`origin` names the config in errors); the
     /// error names the key and what was expected.
     pub fn from_table(table: &toml::Table, origin: &str) -> Result<Self, MapError> {
-        let value = toml::Value::Table(table.clone());
-        let config: Self = serde_path_to_error::deserialize(value).map_err(|e| {
-            let path = e.path().to_string();
-            let inner = e.into_inner();
-            MapError::Config {
-                origin: origin.into(),
-                message: if path == "." {
-                    format!("[map] {}", inner.message())
-                } else {
-                    format!("map.{path}: {}", inner.message())
-                },
-            }
-        })?;
+        let config: Self = parse_table(table, "map", origin)?;
         config.check().map_err(|message| MapError::Config {
             origin: origin.into(),
             message,
@@ -115,6 +103,27 @@ impl MapConfig {
         }
         Ok(())
     }
+}
+
+/// A config's `[section]` table as `T`; the error names `section.key` and what is wrong.
+pub(crate) fn parse_table<T: serde::de::DeserializeOwned>(
+    table: &toml::Table,
+    section: &str,
+    origin: &str,
+) -> Result<T, MapError> {
+    let value = toml::Value::Table(table.clone());
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        MapError::Config {
+            origin: origin.into(),
+            message: if path == "." {
+                format!("[{section}] {}", inner.message())
+            } else {
+                format!("{section}.{path}: {}", inner.message())
+            },
+        }
+    })
 }
 
 #[cfg(test)]

@@ -17,6 +17,7 @@ pub mod covariance;
 mod error;
 mod features_json;
 mod keyframes;
+pub mod localise;
 mod manifest;
 mod open;
 mod pose_graph;

@@ -24,7 +24,7 @@ use std::path::PathBuf;
 
 /// The sections of a config file, in pipeline order (`[plugins]` first: it says where
 /// `kind = "plugin:NAME"` backends are found).
-pub const SECTIONS: [&str; 10] = [
+pub const SECTIONS: [&str; 11] = [
     "plugins",
     "source",
     "image",
@@ -35,6 +35,7 @@ pub const SECTIONS: [&str; 10] = [
     "output",
     "ros2",
     "map",
+    "localise",
 ];
 
 /// The stage sections and the backend each uses when the file does not say.
@@ -100,6 +101,9 @@ pub struct PipelineConfig {
     /// `[map]`: the settings of the global map a run saves (`--map-out`; crate `keylo-map`
     /// validates them; runs that save no map carry the table through unread).
     pub map: toml::Table,
+    /// `[localise]`: the settings of `keylo localise` (crate `keylo-map` validates them;
+    /// other commands carry the table through unread).
+    pub localise: toml::Table,
 }
 
 impl PipelineConfig {

@@ -44,6 +44,17 @@ pub fn render_resolved(config: &PipelineConfig, registry: &Registry) -> String {
         out.push_str("\n[map]\n");
         write_table(&mut out, "map", &config.map, &Value::Null, &Value::Null);
     }
+    if !config.localise.is_empty() {
+        // Validated and documented by crate keylo-map, not by the registry.
+        out.push_str("\n[localise]\n");
+        write_table(
+            &mut out,
+            "localise",
+            &config.localise,
+            &Value::Null,
+            &Value::Null,
+        );
+    }
     out
 }
 

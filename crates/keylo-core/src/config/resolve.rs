@@ -45,6 +45,10 @@ impl Registry {
                 None => toml::Table::new(),
                 Some(value) => expect_table(&raw.origin, "map", value)?,
             },
+            localise: match raw.table.get("localise") {
+                None => toml::Table::new(),
+                Some(value) => expect_table(&raw.origin, "localise", value)?,
+            },
         })
     }
 
