@@ -54,12 +54,7 @@ impl MapConfig {
     /// The settings of a config's `[map]` table (`origin` names the config in errors); the
     /// error names the key and what was expected.
     pub fn from_table(table: &toml::Table, origin: &str) -> Result<Self, MapError> {
-        let config: Self = parse_table(table, "map", origin)?;
-        config.check().map_err(|message| MapError::Config {
-            origin: origin.into(),
-            message,
-        })?;
-        Ok(config)
+        parse_table(table, "map", origin, Self::check)
     }
 
     /// Checks every value; the message names the key, its value and what is expected.
@@ -105,14 +100,16 @@ impl MapConfig {
     }
 }
 
-/// A config's `[section]` table as `T`; the error names `section.key` and what is wrong.
+/// A config's `[section]` table as `T`, checked by `check`; the error names `section.key`
+/// and what is wrong.
 pub(crate) fn parse_table<T: serde::de::DeserializeOwned>(
     table: &toml::Table,
     section: &str,
     origin: &str,
+    check: impl FnOnce(&T) -> Result<(), String>,
 ) -> Result<T, MapError> {
     let value = toml::Value::Table(table.clone());
-    serde_path_to_error::deserialize(value).map_err(|e| {
+    let config: T = serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
         MapError::Config {
@@ -123,7 +120,12 @@ pub(crate) fn parse_table<T: serde::de::DeserializeOwned>(
                 format!("{section}.{path}: {}", inner.message())
             },
         }
-    })
+    })?;
+    check(&config).map_err(|message| MapError::Config {
+        origin: origin.into(),
+        message,
+    })?;
+    Ok(config)
 }
 
 #[cfg(test)]

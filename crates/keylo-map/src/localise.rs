@@ -65,12 +65,7 @@ impl Default for LocaliseConfig {
 impl LocaliseConfig {
     /// The settings of a config's `[localise]` table; the error names the key.
     pub fn from_table(table: &toml::Table, origin: &str) -> Result<Self, MapError> {
-        let config: Self = parse_table(table, "localise", origin)?;
-        config.check().map_err(|message| MapError::Config {
-            origin: origin.into(),
-            message,
-        })?;
-        Ok(config)
+        parse_table(table, "localise", origin, Self::check)
     }
 
     /// Checks every value; the message names the key.
