@@ -207,19 +207,43 @@ fn the_pose_graph_covariance_is_calibrated_on_seeds_it_was_not_fitted_on() {
 /// frames; every frame is tracking.
 #[test]
 fn a_second_run_is_localised_in_the_first_runs_map() {
+    // The lab: another seed (a changed room, another path).
+    localise_second_run(SceneKind::Lab, (0, 3), (1.0, 1.0), 0.3, 80);
+}
+
+#[test]
+fn a_slower_run_is_localised_in_the_first_runs_road_map() {
+    // The road: the same seed (the same road), driven at 0.8× the speed.
+    localise_second_run(SceneKind::Road, (0, 0), (1.0, 0.8), 1.0, 80);
+}
+
+/// Localisation in a prior map: a map saved from one run of `scene` (seed `seeds.0`, speed
+/// `speeds.0`; the ground-truth poses, so the map itself is right), a second run (`seeds.1`,
+/// `speeds.1`) localised in it from an initial pose 0.3 m and 5° off, with `voxel` m voxels.
+/// In the lab another seed keeps the room's walls but draws the furniture, the loop's axes
+/// and the noise anew; on the road it would draw another road, so the road run changes its
+/// speed instead. The error stays bounded, does not grow, and stays below the odometry's on
+/// the same frames; every frame is tracking.
+fn localise_second_run(
+    scene: SceneKind,
+    seeds: (u64, u64),
+    speeds: (f64, f64),
+    voxel: f64,
+    frames: usize,
+) {
     use keylo::map::localise::{LocaliseConfig, Localiser};
     use nalgebra::{Translation3, UnitQuaternion, Vector3};
-    let frames = 80;
-    let sim = |seed| {
+    let sim = |seed, speed_scale| {
         Simulator::new(&SimConfig {
-            scene: SceneKind::Lab,
+            scene,
             frames,
             seed,
+            speed_scale,
             ..SimConfig::default()
         })
         .unwrap()
     };
-    let (a, b) = (sim(0), sim(3));
+    let (a, b) = (sim(seeds.0, speeds.0), sim(seeds.1, speeds.1));
     let dir = tempfile::tempdir().unwrap();
     let map = mapped(&a, MapConfig::default(), &dir.path().join("map"), true);
     let points: Vec<nalgebra::Point3<f64>> = (map.cloud().unwrap().iter())
@@ -233,7 +257,7 @@ fn a_second_run_is_localised_in_the_first_runs_map() {
         UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 5f64.to_radians()),
     );
     let settings = LocaliseConfig {
-        voxel_size: 0.3,
+        voxel_size: voxel,
         ..LocaliseConfig::default()
     };
     let mut localiser = Localiser::new(&points, truth(0) * off, settings);
@@ -249,18 +273,18 @@ fn a_second_run_is_localised_in_the_first_runs_map() {
         // The odometry starts at the identity: compare it in its own frame.
         let o_true = truth(0).inverse() * t;
         odo_err.push((o.pose.translation.vector - o_true.translation.vector).norm());
-        assert!(l.tracking, "frame {k}: fitness {}", l.fitness);
+        assert!(l.tracking, "{scene:?} frame {k}: fitness {}", l.fitness);
     }
     let late = |v: &[f64]| v[frames / 2..].iter().copied().fold(0.0, f64::max);
     println!(
-        "localisation error: frame 0 {:.3} m, largest after frame 5 {:.3} m, second half {:.3} m; \
-         odometry second half {:.3} m",
+        "{scene:?}: localisation error: frame 0 {:.3} m, largest after frame 5 {:.3} m, second half \
+         {:.3} m; odometry second half {:.3} m",
         loc_err[0],
         loc_err[5..].iter().copied().fold(0.0, f64::max),
         late(&loc_err),
         late(&odo_err)
     );
-    assert!(loc_err[5..].iter().all(|&e| e < 0.05), "{loc_err:?}");
+    assert!(loc_err[5..].iter().all(|&e| e < 0.1), "{loc_err:?}");
     // No drift: the last quarter's mean error is no larger than the second quarter's (+1 cm).
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let q = frames / 4;
