@@ -59,6 +59,7 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
             ),
         },
     };
+    check_inside(&map, &initial)?;
     let points: Vec<Point3<f64>> = (map.cloud()?.iter())
         .map(|r| Point3::new(f64::from(r[0]), f64::from(r[1]), f64::from(r[2])))
         .collect();
@@ -152,4 +153,34 @@ fn parse_pose(text: &str) -> Result<Pose> {
         Translation3::new(x, y, z),
         UnitQuaternion::from_quaternion(q),
     ))
+}
+
+/// How far outside the map's box (x, y, z) an initial position may lie, m.
+const OUTSIDE_MARGIN_M: f64 = 5.0;
+
+/// An initial pose farther than [`OUTSIDE_MARGIN_M`] outside the map's box is an error naming
+/// both (a pose in another frame, or meant for another map).
+fn check_inside(map: &Map, pose: &Pose) -> Result<()> {
+    let Some(b) = &map.manifest().bounds else {
+        bail!(
+            "{}: the map holds no point to localise in",
+            map.dir().display()
+        );
+    };
+    let p = pose.translation.vector;
+    let outside =
+        (0..3).any(|k| p[k] < b.min[k] - OUTSIDE_MARGIN_M || p[k] > b.max[k] + OUTSIDE_MARGIN_M);
+    if outside {
+        bail!(
+            "--initial-pose ({:.2}, {:.2}, {:.2}) lies outside the map {} (box {:.2?} .. {:.2?}, \
+             {OUTSIDE_MARGIN_M} m margin): expected a pose in the map's world frame",
+            p.x,
+            p.y,
+            p.z,
+            map.dir().display(),
+            b.min,
+            b.max
+        );
+    }
+    Ok(())
 }

@@ -169,6 +169,7 @@ fn a_run_is_localised_in_its_own_map_and_bad_poses_are_refused() {
     bad("1 2 3", "3 numbers; expected seven");
     bad("0 0 0 0 0 0 2", "the quaternion's norm is 2");
     bad("0 0 0 0 0 x 1", "expected seven numbers");
+    bad("500 0 0 0 0 0 1", "lies outside the map");
     let o = keylo_line(
         "localise map --data data --out x --set localise.min_fitness=2",
         dir.path(),
