@@ -299,3 +299,49 @@ fn localise_second_run(
         late(&odo_err)
     );
 }
+
+/// A localiser started far from the truth says it is lost (it does not report a made-up pose
+/// as tracked) and, given a new pose (`set_pose`), tracks again.
+#[test]
+fn a_lost_localiser_says_so_and_recovers_from_a_new_pose() {
+    use keylo::map::localise::{LocaliseConfig, Localiser};
+    use nalgebra::{Translation3, UnitQuaternion, Vector3};
+    let sim = Simulator::new(&SimConfig {
+        scene: SceneKind::Lab,
+        frames: 20,
+        ..SimConfig::default()
+    })
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let map = mapped(&sim, MapConfig::default(), &dir.path().join("map"), true);
+    let points: Vec<nalgebra::Point3<f64>> = (map.cloud().unwrap().iter())
+        .map(|r| nalgebra::Point3::new(f64::from(r[0]), f64::from(r[1]), f64::from(r[2])))
+        .collect();
+    let truth = |k: usize| sim.relative_pose_at(sim.gt_stamp(k));
+    let far = keylo::Pose::from_parts(
+        Translation3::new(3.0, -2.0, 0.0),
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 2.0),
+    );
+    let settings = LocaliseConfig {
+        voxel_size: 0.3,
+        ..LocaliseConfig::default()
+    };
+    let mut localiser = Localiser::new(&points, truth(0) * far, settings);
+    let lost: Vec<bool> = (0..5)
+        .map(|k| !localiser.localise(&sim.frame(k), k == 0).tracking)
+        .collect();
+    assert!(
+        lost.iter().all(|&l| l),
+        "tracking from 3.6 m and 115° off: {lost:?}"
+    );
+    localiser.set_pose(truth(4));
+    for k in 5..20 {
+        let l = localiser.localise(&sim.frame(k), false);
+        let e = (l.pose.translation.vector - truth(k).translation.vector).norm();
+        assert!(
+            l.tracking && e < 0.1,
+            "frame {k} after set_pose: fitness {}, error {e}",
+            l.fitness
+        );
+    }
+}
