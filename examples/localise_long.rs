@@ -2,6 +2,7 @@
 //! run (the ground-truth poses, so the map is right), then a second run localised in it from
 //! an initial pose 0.3 m and 5° off, beside raw KISS-ICP odometry on the same frames. Prints
 //! the position error against the ground truth per block of frames, for both.
+//! `tests/map_sim.rs` runs [`run`] on shorter runs.
 //!
 //! Usage: localise_long [SCENE] [FRAMES] [SEED_B] [SPEED_B] [VOXEL]
 //!        (defaults: lab 1000 3 1.0 0.3; on the road use seed 0 and another speed: another
@@ -13,16 +14,29 @@ use keylo::map::{MapBuilder, MapConfig};
 use keylo::sim::{SceneKind, SimConfig, Simulator};
 use nalgebra::{Point3, Translation3, UnitQuaternion, Vector3};
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
-    let scene: SceneKind = match args.next() {
-        Some(s) => toml::Value::String(s).try_into()?,
-        None => SceneKind::Lab,
-    };
-    let frames: usize = args.next().map_or(Ok(1000), |s| s.parse())?;
-    let seed_b: u64 = args.next().map_or(Ok(3), |s| s.parse())?;
-    let speed_b: f64 = args.next().map_or(Ok(1.0), |s| s.parse())?;
-    let voxel: f64 = args.next().map_or(Ok(0.3), |s| s.parse())?;
+/// The second run of [`run`]: its seed and speed (the first run has seed 0, speed 1).
+pub struct SecondRun {
+    pub seed: u64,
+    pub speed_scale: f64,
+}
+
+/// Per frame of the second run: the localiser's and the odometry's position errors (m), and
+/// whether the localiser was tracking; with the registration rates (Hz).
+pub struct Errors {
+    pub localised: Vec<f64>,
+    pub odometry: Vec<f64>,
+    pub tracking: Vec<bool>,
+    pub rates_hz: (f64, f64),
+}
+
+/// Maps `frames` frames of `scene` from the true poses, then localises `second` in it with
+/// `voxel` m voxels from 0.3 m and 5° off, beside raw KISS-ICP.
+pub fn run(
+    scene: SceneKind,
+    frames: usize,
+    second: &SecondRun,
+    voxel: f64,
+) -> Result<Errors, Box<dyn std::error::Error>> {
     let sim = |seed, speed_scale| {
         Simulator::new(&SimConfig {
             scene,
@@ -32,33 +46,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..SimConfig::default()
         })
     };
-    let (a, b) = (sim(0, 1.0)?, sim(seed_b, speed_b)?);
-    // The map of run A from its true poses.
-    let dir = std::env::temp_dir().join(format!("keylo-localise-long-{}", std::process::id()));
-    let mut builder = MapBuilder::create(&dir, MapConfig::default(), "run A")?;
-    for k in 0..a.len() {
-        let frame = a.frame(k);
-        let r = keylo::FrameResult {
-            index: k as u64,
-            stamp: frame.end_stamp(),
-            pose: a.relative_pose_at(a.gt_stamp(k)),
-            keypoints: 0,
-            cloud_points: 0,
-            registered_points: 0,
-            map_points: 0,
-            iterations: 0,
-            converged: true,
-            degeneracy: None,
-            timings: Default::default(),
-        };
-        builder.add(&frame, &r, None)?;
-    }
-    builder.finish()?;
-    let map = keylo::map::Map::open(&dir)?;
-    let points: Vec<Point3<f64>> = (map.cloud()?.iter())
-        .map(|r| Point3::new(f64::from(r[0]), f64::from(r[1]), f64::from(r[2])))
-        .collect();
-    std::fs::remove_dir_all(&dir)?;
+    let (a, b) = (sim(0, 1.0)?, sim(second.seed, second.speed_scale)?);
+    let points = true_map(&a)?;
+    // The map's world frame in the scene: the first run's sensor at its first frame's end.
     let map_from_scene = a.pose_at(a.gt_stamp(0)).inverse();
     let truth = |k: usize| map_from_scene * b.pose_at(b.gt_stamp(k));
     let off = keylo::Pose::from_parts(
@@ -76,7 +66,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "[registrar]\nkind = \"kiss-icp\"\n",
     )?)?;
     let mut odometry = keylo::Odometry::build(&config, &registry)?;
-    let (mut loc, mut odo, mut lost) = (Vec::new(), Vec::new(), 0);
+    let mut e = Errors {
+        localised: Vec::new(),
+        odometry: Vec::new(),
+        tracking: Vec::new(),
+        rates_hz: (0.0, 0.0),
+    };
     let (mut loc_s, mut odo_s) = (0.0, 0.0);
     for k in 0..b.len() {
         let frame = b.frame(k);
@@ -87,16 +82,67 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let o = odometry.process(&frame)?;
         odo_s += t.elapsed().as_secs_f64();
         let truth_k = truth(k);
-        loc.push((l.pose.translation.vector - truth_k.translation.vector).norm());
+        e.localised
+            .push((l.pose.translation.vector - truth_k.translation.vector).norm());
+        // The odometry starts at the identity: compare it in its own frame.
         let o_true = truth(0).inverse() * truth_k;
-        odo.push((o.pose.translation.vector - o_true.translation.vector).norm());
-        lost += usize::from(!l.tracking);
+        e.odometry
+            .push((o.pose.translation.vector - o_true.translation.vector).norm());
+        e.tracking.push(l.tracking);
     }
-    println!("{scene:?}, {frames} frames (run B: seed {seed_b}, speed ×{speed_b}), voxel {voxel} m: {lost} frames not tracking; localisation {:.0} Hz, odometry {:.0} Hz", frames as f64 / loc_s, frames as f64 / odo_s);
+    e.rates_hz = (frames as f64 / loc_s, frames as f64 / odo_s);
+    Ok(e)
+}
+
+/// The global cloud of a map saved from `sim`'s frames with its true poses.
+fn true_map(sim: &Simulator) -> Result<Vec<Point3<f64>>, Box<dyn std::error::Error>> {
+    let dir = std::env::temp_dir().join(format!(
+        "keylo-true-map-{}-{:?}",
+        std::process::id(),
+        std::thread::current().id()
+    ));
+    let mut builder = MapBuilder::create(&dir, MapConfig::default(), "true poses")?;
+    for k in 0..sim.len() {
+        let frame = sim.frame(k);
+        let pose = sim.relative_pose_at(sim.gt_stamp(k));
+        let r = keylo::FrameResult::with_pose(k as u64, frame.end_stamp(), pose);
+        builder.add(&frame, &r, None)?;
+    }
+    builder.finish()?;
+    let cloud = keylo::map::Map::open(&dir)?.cloud()?;
+    std::fs::remove_dir_all(&dir)?;
+    Ok(cloud
+        .iter()
+        .map(|r| Point3::new(f64::from(r[0]), f64::from(r[1]), f64::from(r[2])))
+        .collect())
+}
+
+#[allow(dead_code)] // a module of tests/map_sim.rs too
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let scene: SceneKind = match args.next() {
+        Some(s) => toml::Value::String(s).try_into()?,
+        None => SceneKind::Lab,
+    };
+    let frames: usize = args.next().map_or(Ok(1000), |s| s.parse())?;
+    let seed: u64 = args.next().map_or(Ok(3), |s| s.parse())?;
+    let speed_scale: f64 = args.next().map_or(Ok(1.0), |s| s.parse())?;
+    let voxel: f64 = args.next().map_or(Ok(0.3), |s| s.parse())?;
+    let e = run(scene, frames, &SecondRun { seed, speed_scale }, voxel)?;
+    let lost = e.tracking.iter().filter(|t| !**t).count();
+    println!(
+        "{scene:?}, {frames} frames (run B: seed {seed}, speed ×{speed_scale}), voxel {voxel} m: {lost} frames not tracking; localisation {:.0} Hz, odometry {:.0} Hz",
+        e.rates_hz.0, e.rates_hz.1
+    );
     println!("| frames | localisation: mean / max error (m) | odometry: mean / max error (m) |");
     println!("|---|---|---|");
     let block = (frames / 10).max(1);
-    for (i, (l, o)) in loc.chunks(block).zip(odo.chunks(block)).enumerate() {
+    for (i, (l, o)) in e
+        .localised
+        .chunks(block)
+        .zip(e.odometry.chunks(block))
+        .enumerate()
+    {
         let stat = |v: &[f64]| {
             (
                 v.iter().sum::<f64>() / v.len() as f64,

@@ -205,98 +205,59 @@ fn the_pose_graph_covariance_is_calibrated_on_seeds_it_was_not_fitted_on() {
 /// initial pose 0.3 m and 5° off. The seed keeps the room's walls but draws the furniture, the
 /// loop's axes and the noise anew: a changed room, another path. Its error stays bounded and below the odometry's on the same
 /// frames; every frame is tracking.
+#[path = "../examples/localise_long.rs"]
+mod localise_long;
+
 #[test]
 fn a_second_run_is_localised_in_the_first_runs_map() {
     // The lab: another seed (a changed room, another path).
-    localise_second_run(SceneKind::Lab, (0, 3), (1.0, 1.0), 0.3, 80);
+    let second = localise_long::SecondRun {
+        seed: 3,
+        speed_scale: 1.0,
+    };
+    check_localised(SceneKind::Lab, &second, 0.3);
 }
 
 #[test]
 fn a_slower_run_is_localised_in_the_first_runs_road_map() {
     // The road: the same seed (the same road), driven at 0.8× the speed.
-    localise_second_run(SceneKind::Road, (0, 0), (1.0, 0.8), 1.0, 80);
+    let second = localise_long::SecondRun {
+        seed: 0,
+        speed_scale: 0.8,
+    };
+    check_localised(SceneKind::Road, &second, 1.0);
 }
 
-/// Localisation in a prior map: a map saved from one run of `scene` (seed `seeds.0`, speed
-/// `speeds.0`; the ground-truth poses, so the map itself is right), a second run (`seeds.1`,
-/// `speeds.1`) localised in it from an initial pose 0.3 m and 5° off, with `voxel` m voxels.
-/// In the lab another seed keeps the room's walls but draws the furniture, the loop's axes
-/// and the noise anew; on the road it would draw another road, so the road run changes its
-/// speed instead. The error stays bounded, does not grow, and stays below the odometry's on
-/// the same frames; every frame is tracking.
-fn localise_second_run(
-    scene: SceneKind,
-    seeds: (u64, u64),
-    speeds: (f64, f64),
-    voxel: f64,
-    frames: usize,
-) {
-    use keylo::map::localise::{LocaliseConfig, Localiser};
-    use nalgebra::{Translation3, UnitQuaternion, Vector3};
-    let sim = |seed, speed_scale| {
-        Simulator::new(&SimConfig {
-            scene,
-            frames,
-            seed,
-            speed_scale,
-            ..SimConfig::default()
-        })
-        .unwrap()
-    };
-    let (a, b) = (sim(seeds.0, speeds.0), sim(seeds.1, speeds.1));
-    let dir = tempfile::tempdir().unwrap();
-    let map = mapped(&a, MapConfig::default(), &dir.path().join("map"), true);
-    let points: Vec<nalgebra::Point3<f64>> = (map.cloud().unwrap().iter())
-        .map(|r| nalgebra::Point3::new(f64::from(r[0]), f64::from(r[1]), f64::from(r[2])))
-        .collect();
-    // The map's world frame in the scene: the first run's sensor at its first frame's end.
-    let map_from_scene = a.pose_at(a.gt_stamp(0)).inverse();
-    let truth = |k: usize| map_from_scene * b.pose_at(b.gt_stamp(k));
-    let off = keylo::Pose::from_parts(
-        Translation3::new(0.3, 0.0, 0.0),
-        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 5f64.to_radians()),
-    );
-    let settings = LocaliseConfig {
-        voxel_size: voxel,
-        ..LocaliseConfig::default()
-    };
-    let mut localiser = Localiser::new(&points, truth(0) * off, settings);
-    let (registry, config) = common::resolve("[registrar]\nkind = \"kiss-icp\"\n");
-    let mut odometry = keylo::Odometry::build(&config, &registry).unwrap();
-    let (mut loc_err, mut odo_err) = (Vec::new(), Vec::new());
-    for k in 0..frames {
-        let frame = b.frame(k);
-        let l = localiser.localise(&frame, k == 0);
-        let o = odometry.process(&frame).unwrap();
-        let t = truth(k);
-        loc_err.push((l.pose.translation.vector - t.translation.vector).norm());
-        // The odometry starts at the identity: compare it in its own frame.
-        let o_true = truth(0).inverse() * t;
-        odo_err.push((o.pose.translation.vector - o_true.translation.vector).norm());
-        assert!(l.tracking, "{scene:?} frame {k}: fitness {}", l.fitness);
-    }
+/// Localisation in a prior map (`examples/localise_long.rs` on 80 frames): a map saved from
+/// one run of `scene` with the true poses, a second run localised in it from 0.3 m and 5° off
+/// with `voxel` m voxels. In the lab another seed keeps the room's walls but draws the
+/// furniture, the loop's axes and the noise anew; on the road it would draw another road, so
+/// the road run changes its speed instead. The error stays bounded, does not grow, and stays
+/// below the odometry's on the same frames; every frame is tracking.
+fn check_localised(scene: SceneKind, second: &localise_long::SecondRun, voxel: f64) {
+    let frames = 80;
+    let e = localise_long::run(scene, frames, second, voxel).unwrap();
+    let (loc, odo) = (&e.localised, &e.odometry);
+    assert!(e.tracking.iter().all(|t| *t), "{scene:?}: {:?}", e.tracking);
     let late = |v: &[f64]| v[frames / 2..].iter().copied().fold(0.0, f64::max);
     println!(
         "{scene:?}: localisation error: frame 0 {:.3} m, largest after frame 5 {:.3} m, second half \
          {:.3} m; odometry second half {:.3} m",
-        loc_err[0],
-        loc_err[5..].iter().copied().fold(0.0, f64::max),
-        late(&loc_err),
-        late(&odo_err)
+        loc[0],
+        loc[5..].iter().copied().fold(0.0, f64::max),
+        late(loc),
+        late(odo)
     );
-    assert!(loc_err[5..].iter().all(|&e| e < 0.1), "{loc_err:?}");
+    assert!(loc[5..].iter().all(|&x| x < 0.1), "{loc:?}");
     // No drift: the last quarter's mean error is no larger than the second quarter's (+1 cm).
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let q = frames / 4;
+    assert!(mean(&loc[3 * q..]) < mean(&loc[q..2 * q]) + 0.01, "{loc:?}");
     assert!(
-        mean(&loc_err[3 * q..]) < mean(&loc_err[q..2 * q]) + 0.01,
-        "{loc_err:?}"
-    );
-    assert!(
-        late(&loc_err) < late(&odo_err),
+        late(loc) < late(odo),
         "localisation {} vs odometry {}",
-        late(&loc_err),
-        late(&odo_err)
+        late(loc),
+        late(odo)
     );
 }
 

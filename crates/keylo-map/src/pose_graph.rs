@@ -147,17 +147,8 @@ mod tests {
 
     fn result(k: u64, pose: Pose, degeneracy: Option<Degeneracy>) -> FrameResult {
         FrameResult {
-            index: k,
-            stamp: 0.1 * k as f64,
-            pose,
-            keypoints: 0,
-            cloud_points: 0,
-            registered_points: 0,
-            map_points: 0,
-            iterations: 0,
-            converged: true,
             degeneracy,
-            timings: Default::default(),
+            ..FrameResult::with_pose(k, 0.1 * k as f64, pose)
         }
     }
 

@@ -58,6 +58,27 @@ pub struct FrameResult {
     pub timings: StageTimings,
 }
 
+impl FrameResult {
+    /// The result of a frame whose pose came from elsewhere (ground truth, another odometry):
+    /// for a [`FrameResult`]-taking consumer such as a map builder; counts zero, no
+    /// degeneracy analysis.
+    pub fn with_pose(index: u64, stamp: f64, pose: Pose) -> Self {
+        Self {
+            index,
+            stamp,
+            pose,
+            keypoints: 0,
+            cloud_points: 0,
+            registered_points: 0,
+            map_points: 0,
+            iterations: 0,
+            converged: true,
+            degeneracy: None,
+            timings: StageTimings::default(),
+        }
+    }
+}
+
 /// The per-frame stages, without a source: embed this to feed frames yourself.
 ///
 /// Thread-safety: `Odometry` is `Send` but not `Sync`: move it to any thread, use it from one
