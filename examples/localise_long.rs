@@ -109,12 +109,9 @@ fn true_map(sim: &Simulator) -> Result<Vec<Point3<f64>>, Box<dyn std::error::Err
         builder.add(&frame, &r, None)?;
     }
     builder.finish()?;
-    let cloud = keylo::map::Map::open(&dir)?.cloud()?;
+    let points = keylo::map::Map::open(&dir)?.points()?;
     std::fs::remove_dir_all(&dir)?;
-    Ok(cloud
-        .iter()
-        .map(|r| Point3::new(f64::from(r[0]), f64::from(r[1]), f64::from(r[2])))
-        .collect())
+    Ok(points)
 }
 
 #[allow(dead_code)] // a module of tests/map_sim.rs too

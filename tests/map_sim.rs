@@ -275,9 +275,7 @@ fn a_lost_localiser_says_so_and_recovers_from_a_new_pose() {
     .unwrap();
     let dir = tempfile::tempdir().unwrap();
     let map = mapped(&sim, MapConfig::default(), &dir.path().join("map"), true);
-    let points: Vec<nalgebra::Point3<f64>> = (map.cloud().unwrap().iter())
-        .map(|r| nalgebra::Point3::new(f64::from(r[0]), f64::from(r[1]), f64::from(r[2])))
-        .collect();
+    let points = map.points().unwrap();
     let truth = |k: usize| sim.relative_pose_at(sim.gt_stamp(k));
     let far = keylo::Pose::from_parts(
         Translation3::new(3.0, -2.0, 0.0),

@@ -60,7 +60,7 @@ use keylo_core::config::RawConfig;
 use keylo_core::registry::parse_params;
 use keylo_core::{BeamGeometry, LidarFrame, Odometry, Pose, Registry};
 use keylo_io::cloud::{ProjectionConfig, Projector, RawCloud, Sensor};
-use keylo_map::covariance::{frame_covariance, matrix, NoiseModel};
+use keylo_map::covariance::{array, frame_covariance, matrix, NoiseModel, PLAIN_SIGMA_M};
 use keylo_map::{MapBuilder, MapConfig, MapManifest};
 use nalgebra::Point3;
 
@@ -123,7 +123,7 @@ impl Frontend {
             frames: 0,
             last: None,
             map: None,
-            noise: NoiseModel::plain(0.03),
+            noise: NoiseModel::plain(PLAIN_SIGMA_M),
         })
     }
 
@@ -200,7 +200,7 @@ impl Frontend {
             .map(|h| {
                 let last = self.last.as_ref().map(|l| l.result.pose);
                 let c = frame_covariance(&self.noise, &matrix(&h), &result.pose, last.as_ref());
-                std::array::from_fn(|i| std::array::from_fn(|j| c[(i, j)]))
+                array(&c)
             });
         Ok(self.last.insert(FrameOutput {
             result,
@@ -308,7 +308,7 @@ pub(crate) fn noise_of(raw: &RawConfig) -> NoiseModel {
         .and_then(|r| r.get("kind"))
         .and_then(toml::Value::as_str)
         .unwrap_or("kiss-icp");
-    NoiseModel::fitted(kind).unwrap_or_else(|| NoiseModel::plain(0.03))
+    NoiseModel::fitted(kind).unwrap_or_else(|| NoiseModel::plain(PLAIN_SIGMA_M))
 }
 
 /// `[source.projection]` of `raw`, or the default projection.

@@ -11,7 +11,7 @@ use clap::Args;
 use keylo::map::localise::{LocaliseConfig, Localiser};
 use keylo::map::Map;
 use keylo::{Pose, Trajectory};
-use nalgebra::{Point3, Quaternion, Translation3, UnitQuaternion};
+use nalgebra::{Quaternion, Translation3, UnitQuaternion};
 
 use crate::configs;
 
@@ -60,10 +60,7 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         },
     };
     check_inside(&map, &initial)?;
-    let points: Vec<Point3<f64>> = (map.cloud()?.iter())
-        .map(|r| Point3::new(f64::from(r[0]), f64::from(r[1]), f64::from(r[2])))
-        .collect();
-    let mut localiser = Localiser::new(&points, initial, settings);
+    let mut localiser = Localiser::new(&map.points()?, initial, settings);
     let mut source = keylo::build_source(&config, &registry)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;

@@ -31,13 +31,17 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     )?;
     // A ground-truth file named by the user must be readable before any work starts.
     let gt_given = run_accuracy::reference_file(&args, &config)?;
-    let map_settings = match &args.map_out {
-        Some(_) => Some(keylo::map::MapConfig::from_table(
+    // `[map]` (the map's settings, and the pose graph's keyframes) is checked before any work.
+    let map_settings = match args.map_out.is_some() || config.output.pose_graph {
+        true => Some(keylo::map::MapConfig::from_table(
             &config.map,
             &config.origin,
         )?),
-        None => None,
+        false => None,
     };
+    let mut pose_graph = map_settings
+        .as_ref()
+        .and_then(|s| pose_graph_for(&config, s));
     let out = output_dir(&args, &config)?;
     std::fs::write(
         out.join("config.toml"),
@@ -68,7 +72,6 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let mut pictures = args
         .images
         .map(|every| Pictures::new(every, out.join("images")));
-    let mut pose_graph = pose_graph_for(&config)?;
     let mut map = match (&args.map_out, map_settings) {
         (Some(dir), Some(settings)) => Some(MapBuilder::create(dir, settings, &info.description)?),
         _ => None,
@@ -187,29 +190,19 @@ struct Outputs<'a> {
     pose_graph: Option<&'a mut PoseGraph>,
 }
 
-/// The pose graph `[output] pose_graph` asks for: keyframes as the map's, covariances with
-/// `[output] covariance_sigma_m` or the registrar's fitted σ.
-fn pose_graph_for(config: &PipelineConfig) -> Result<Option<PoseGraph>> {
-    if !config.output.pose_graph {
-        return Ok(None);
-    }
-    let settings = keylo::map::MapConfig::from_table(&config.map, &config.origin)?;
-    let kind = &config.registrar.kind;
-    let noise = match config.output.covariance_sigma_m {
-        s if s > 0.0 => NoiseModel::plain(s),
-        _ => NoiseModel::fitted(kind).unwrap_or_else(|| {
-            tracing::warn!(
-                "pose_graph.g2o: no fitted noise model for registrar `{kind}`; σ²H⁻¹ with σ = \
-                 0.03 m (set output.covariance_sigma_m)"
-            );
-            NoiseModel::plain(0.03)
-        }),
-    };
-    Ok(Some(PoseGraph::new(
-        settings.keyframe_distance,
-        settings.keyframe_angle_deg,
-        noise,
-    )))
+/// The pose graph `[output] pose_graph` asks for: keyframes as the map's (`settings`),
+/// covariances with `[output] covariance_sigma_m` or the registrar's fitted model.
+fn pose_graph_for(config: &PipelineConfig, settings: &keylo::map::MapConfig) -> Option<PoseGraph> {
+    config.output.pose_graph.then(|| {
+        let sigma = config.output.covariance_sigma_m;
+        let noise =
+            NoiseModel::for_registrar(&config.registrar.kind, sigma, "output.covariance_sigma_m");
+        PoseGraph::new(
+            settings.keyframe_distance,
+            settings.keyframe_angle_deg,
+            noise,
+        )
+    })
 }
 
 /// The registrar's final local map as `map.ply` (world frame), when it has one.

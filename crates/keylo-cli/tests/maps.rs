@@ -128,6 +128,13 @@ fn bad_maps_and_settings_are_errors_naming_them() {
         2,
         "output.covariance_sigma_m",
     );
+    // The pose graph's keyframes come from [map] too: checked before the run writes anything.
+    let graph = run("--set output.pose_graph=true --set map.keyframe_distance=-1");
+    expect_failure(&graph, 2, "map.keyframe_distance = -1");
+    assert!(
+        !dir.path().join("r").exists(),
+        "nothing is written before [map] is checked"
+    );
     let crop = keylo_line("map crop empty --min 1,1,1 --max 0,0,0 --out c", dir.path());
     expect_failure(&crop, 2, "lies above --max");
 }

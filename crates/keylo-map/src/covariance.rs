@@ -10,6 +10,9 @@
 use keylo_core::Pose;
 use nalgebra::{Matrix3, Matrix6};
 
+/// The residual σ (m) of plain `σ² H⁻¹` for a registrar without a fitted model.
+pub const PLAIN_SIGMA_M: f64 = 0.03;
+
 /// A frame's motion covariance: the registrar's `H⁻¹` scaled, plus noise that grows with the
 /// distance `d` the frame moved and the angle `a` it turned,
 /// `diag((κ_t·d)² I₃, ((κ_r·d)² + (κ_a·a)²) I₃)` (m², rad²): odometry drift proportional to
@@ -37,6 +40,22 @@ impl NoiseModel {
             kappa_r: 0.0,
             kappa_a: 0.0,
         }
+    }
+
+    /// The model a run uses: plain `σ² H⁻¹` for a configured `sigma > 0`, else the model
+    /// fitted for `registrar`, else (a registrar without one, with a warning naming `key`, the
+    /// setting that chooses σ) plain `σ² H⁻¹` with [`PLAIN_SIGMA_M`].
+    pub fn for_registrar(registrar: &str, sigma: f64, key: &str) -> Self {
+        if sigma > 0.0 {
+            return Self::plain(sigma);
+        }
+        Self::fitted(registrar).unwrap_or_else(|| {
+            tracing::warn!(
+                "no fitted covariance model for registrar `{registrar}`; σ²H⁻¹ with σ = \
+                 {PLAIN_SIGMA_M} m (set {key})"
+            );
+            Self::plain(PLAIN_SIGMA_M)
+        })
     }
 
     /// The model fitted for a built-in registrar kind; `None` for others (plugins).
@@ -116,6 +135,11 @@ const FITTED: [(&str, NoiseModel); 3] = [
 /// `[[f64; 6]; 6]` (as `Degeneracy::covariance` gives it) as a matrix.
 pub fn matrix(c: &[[f64; 6]; 6]) -> Matrix6<f64> {
     Matrix6::from_fn(|i, j| c[i][j])
+}
+
+/// A matrix as `[[f64; 6]; 6]` (the inverse of [`matrix`]).
+pub fn array(c: &Matrix6<f64>) -> [[f64; 6]; 6] {
+    std::array::from_fn(|i| std::array::from_fn(|j| c[(i, j)]))
 }
 
 /// The adjoint of `T` on twists `[ρ, φ]`: `exp(Ad(T)·ξ) = T·exp(ξ)·T⁻¹`.

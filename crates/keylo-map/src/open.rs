@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use keylo_io::export::{write_xyzi, CloudFormat};
 use keylo_io::folder::fields::FieldOptions;
+use nalgebra::Point3;
 
 use crate::keyframes::{keyframe_file, read_rows, write_rows};
 use crate::manifest::files;
@@ -84,6 +85,11 @@ impl Map {
             .zip(intensity)
             .map(|(p, i)| [p[0], p[1], p[2], i])
             .collect())
+    }
+
+    /// The global cloud's points (world frame), e.g. to localise in ([`crate::localise`]).
+    pub fn points(&self) -> Result<Vec<Point3<f64>>, MapError> {
+        Ok(self.cloud()?.iter().map(|r| Point3::from(xyz(r))).collect())
     }
 
     /// Writes the global cloud to `path` (`.ply` or `.pcd`), keeping the points in `within`

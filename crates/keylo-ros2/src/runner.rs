@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use keylo_core::{FrameFeatures, FrameResult, LidarFrame, Odometry};
 use keylo_io::cloud::{ProjectionConfig, Projector, Sensor};
 use keylo_io::ros::CloudFramer;
-use keylo_map::covariance::{frame_covariance, matrix, NoiseModel};
+use keylo_map::covariance::{array, frame_covariance, matrix, NoiseModel, PLAIN_SIGMA_M};
 use nalgebra::Isometry3;
 
 use crate::dds::Dds;
@@ -108,23 +108,15 @@ impl Ros2Node {
     /// `ros2.residual_sigma_m = 0` the model fitted for it (plain `σ² H⁻¹` with σ = 0.03 m and
     /// a warning for a registrar without one), else plain `σ² H⁻¹` with the configured σ.
     pub fn set_registrar(&mut self, kind: &str) {
-        self.noise = match self.config.residual_sigma_m {
-            s if s > 0.0 => NoiseModel::plain(s),
-            _ => NoiseModel::fitted(kind).unwrap_or_else(|| {
-                tracing::warn!(
-                    "ros2: no fitted covariance model for registrar `{kind}`; σ²H⁻¹ with σ = \
-                     0.03 m (set ros2.residual_sigma_m)"
-                );
-                NoiseModel::plain(0.03)
-            }),
-        };
+        let sigma = self.config.residual_sigma_m;
+        self.noise = NoiseModel::for_registrar(kind, sigma, "ros2.residual_sigma_m");
     }
 
     /// The frame's covariance in the world frame, when the registrar estimated `H`.
     fn frame_covariance(&self, r: &FrameResult) -> Option<[[f64; 6]; 6]> {
         let h = r.degeneracy.as_ref()?.covariance(1.0)?;
         let c = frame_covariance(&self.noise, &matrix(&h), &r.pose, self.last_lidar.as_ref());
-        Some(std::array::from_fn(|i| std::array::from_fn(|j| c[(i, j)])))
+        Some(array(&c))
     }
 
     /// Asks for every frame's features in [`Published`] (e.g. to save them with a map), on
@@ -173,7 +165,7 @@ impl Ros2Node {
             stats: NodeStats::default(),
             pending_prior: false,
             last_lidar: None,
-            noise: NoiseModel::plain(0.03),
+            noise: NoiseModel::plain(PLAIN_SIGMA_M),
         })
     }
 
