@@ -4,12 +4,12 @@
 //! the position error against the ground truth per block of frames, for both.
 //! `tests/map_sim.rs` runs [`run`] on shorter runs.
 //!
-//! Usage: localise_long [SCENE] [FRAMES] [SEED_B] [SPEED_B] [VOXEL]
-//!        (defaults: lab 1000 3 1.0 0.3; on the road use seed 0 and another speed: another
-//!        seed is another road)
+//! Usage: localise_long [SCENE] [FRAMES] [SEED_B] [SPEED_B] [VOXEL] [METHOD] [NDT_RESOLUTION] [NDT_SOURCE_VOXEL]
+//!        (defaults: lab 1000 3 1.0 0.3 icp; on the road use seed 0 and another speed:
+//!        another seed is another road; METHOD icp or ndt)
 
 use keylo::config::RawConfig;
-use keylo::map::localise::{LocaliseConfig, Localiser};
+use keylo::map::localise::{LocaliseConfig, LocaliseMethod, Localiser};
 use keylo::map::{MapBuilder, MapConfig};
 use keylo::sim::{SceneKind, SimConfig, Simulator};
 use nalgebra::{Point3, Translation3, UnitQuaternion, Vector3};
@@ -30,12 +30,12 @@ pub struct Errors {
 }
 
 /// Maps `frames` frames of `scene` from the true poses, then localises `second` in it with
-/// `voxel` m voxels from 0.3 m and 5° off, beside raw KISS-ICP.
+/// `settings` from 0.3 m and 5° off, beside raw KISS-ICP.
 pub fn run(
     scene: SceneKind,
     frames: usize,
     second: &SecondRun,
-    voxel: f64,
+    settings: &LocaliseConfig,
 ) -> Result<Errors, Box<dyn std::error::Error>> {
     let sim = |seed, speed_scale| {
         Simulator::new(&SimConfig {
@@ -55,11 +55,7 @@ pub fn run(
         Translation3::new(0.3, 0.0, 0.0),
         UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 5f64.to_radians()),
     );
-    let settings = LocaliseConfig {
-        voxel_size: voxel,
-        ..LocaliseConfig::default()
-    };
-    let mut localiser = Localiser::new(&points, truth(0) * off, settings);
+    let mut localiser = Localiser::new(&points, truth(0) * off, settings.clone())?;
     let registry = keylo::registry();
     let config = registry.resolve(&RawConfig::parse(
         "odometry",
@@ -76,7 +72,7 @@ pub fn run(
     for k in 0..b.len() {
         let frame = b.frame(k);
         let t = std::time::Instant::now();
-        let l = localiser.localise(&frame, k == 0);
+        let l = localiser.localise(&frame);
         loc_s += t.elapsed().as_secs_f64();
         let t = std::time::Instant::now();
         let o = odometry.process(&frame)?;
@@ -125,11 +121,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seed: u64 = args.next().map_or(Ok(3), |s| s.parse())?;
     let speed_scale: f64 = args.next().map_or(Ok(1.0), |s| s.parse())?;
     let voxel: f64 = args.next().map_or(Ok(0.3), |s| s.parse())?;
-    let e = run(scene, frames, &SecondRun { seed, speed_scale }, voxel)?;
+    let method: LocaliseMethod = match args.next() {
+        Some(s) => toml::Value::String(s).try_into()?,
+        None => LocaliseMethod::Icp,
+    };
+    let mut settings = LocaliseConfig {
+        voxel_size: voxel,
+        method,
+        ..LocaliseConfig::default()
+    };
+    if let Some(r) = args.next() {
+        settings.ndt.resolution = r.parse()?;
+    }
+    if let Some(v) = args.next() {
+        settings.ndt.source_voxel_size = v.parse()?;
+    }
+    let e = run(scene, frames, &SecondRun { seed, speed_scale }, &settings)?;
     let lost = e.tracking.iter().filter(|t| !**t).count();
     println!(
-        "{scene:?}, {frames} frames (run B: seed {seed}, speed ×{speed_scale}), voxel {voxel} m: {lost} frames not tracking; localisation {:.0} Hz, odometry {:.0} Hz",
-        e.rates_hz.0, e.rates_hz.1
+        "{scene:?}, {frames} frames (run B: seed {seed}, speed ×{speed_scale}), {method:?} (NDT resolution {} m, source voxel {} m), voxel {voxel} m: {lost} frames not tracking; localisation {:.0} Hz, odometry {:.0} Hz",
+        settings.ndt.resolution, settings.ndt.source_voxel_size, e.rates_hz.0, e.rates_hz.1
     );
     println!("| frames | localisation: mean / max error (m) | odometry: mean / max error (m) |");
     println!("|---|---|---|");

@@ -37,6 +37,7 @@ pub fn registry() -> keylo_core::Registry {
     keylo_sim::register(&mut registry);
     keylo_io::register(&mut registry);
     keylo_registration::register(&mut registry);
+    keylo_map::localise::register(&mut registry);
     #[cfg(feature = "opencv")]
     keylo_features::register(&mut registry);
     registry

@@ -85,6 +85,7 @@ impl Registrar for Counter {
             iterations: 1,
             converged: true,
             degeneracy: None,
+            fit: None,
         })
     }
 

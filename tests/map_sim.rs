@@ -6,7 +6,9 @@
 
 mod common;
 
-use keylo::map::{Bounds, Map, MapBuilder, MapConfig};
+use common::mapped;
+
+use keylo::map::{Bounds, Map, MapConfig};
 use keylo::sim::{SceneKind, SimConfig, Simulator};
 
 /// Distances of the map's points to the scene's surfaces: (median, 95th percentile), m.
@@ -23,25 +25,6 @@ fn surface_errors(sim: &Simulator, map: &Map) -> (f64, f64) {
         .collect();
     d.sort_by(f64::total_cmp);
     (d[d.len() / 2], d[d.len() * 95 / 100])
-}
-
-/// Runs raw KISS-ICP on the simulated frames, saving a map with `settings`; with `truth`
-/// the map takes the ground-truth poses instead of the odometry's.
-fn mapped(sim: &Simulator, settings: MapConfig, dir: &std::path::Path, truth: bool) -> Map {
-    let (registry, config) = common::resolve("[registrar]\nkind = \"kiss-icp\"\n");
-    let mut odometry = keylo::Odometry::build(&config, &registry).unwrap();
-    let mut builder = MapBuilder::create(dir, settings, "simulated road").unwrap();
-    for k in 0..sim.len() {
-        let frame = sim.frame(k);
-        let (mut r, f) = odometry.process_guarded(&frame, true).unwrap();
-        if truth {
-            r.pose = sim.relative_pose_at(sim.gt_stamp(k));
-        }
-        builder.add(&frame, &r, f.as_ref()).unwrap();
-    }
-    let manifest = builder.finish().unwrap();
-    assert_eq!(manifest.frames, sim.len());
-    Map::open(dir).unwrap()
 }
 
 #[test]
@@ -196,111 +179,6 @@ fn the_pose_graph_covariance_is_calibrated_on_seeds_it_was_not_fitted_on() {
             mean(&plain) > 18.0,
             "{scene:?}: σ²H⁻¹ alone gives {}",
             mean(&plain)
-        );
-    }
-}
-
-/// Localisation in a prior map: a map saved from one run of the lab (the ground-truth poses,
-/// so the map itself is right), a second run with another seed localised in it from an
-/// initial pose 0.3 m and 5° off. The seed keeps the room's walls but draws the furniture, the
-/// loop's axes and the noise anew: a changed room, another path. Its error stays bounded and below the odometry's on the same
-/// frames; every frame is tracking.
-#[path = "../examples/localise_long.rs"]
-mod localise_long;
-
-#[test]
-fn a_second_run_is_localised_in_the_first_runs_map() {
-    // The lab: another seed (a changed room, another path).
-    let second = localise_long::SecondRun {
-        seed: 3,
-        speed_scale: 1.0,
-    };
-    check_localised(SceneKind::Lab, &second, 0.3);
-}
-
-#[test]
-fn a_slower_run_is_localised_in_the_first_runs_road_map() {
-    // The road: the same seed (the same road), driven at 0.8× the speed.
-    let second = localise_long::SecondRun {
-        seed: 0,
-        speed_scale: 0.8,
-    };
-    check_localised(SceneKind::Road, &second, 1.0);
-}
-
-/// Localisation in a prior map (`examples/localise_long.rs` on 80 frames): a map saved from
-/// one run of `scene` with the true poses, a second run localised in it from 0.3 m and 5° off
-/// with `voxel` m voxels. In the lab another seed keeps the room's walls but draws the
-/// furniture, the loop's axes and the noise anew; on the road it would draw another road, so
-/// the road run changes its speed instead. The error stays bounded, does not grow, and stays
-/// below the odometry's on the same frames; every frame is tracking.
-fn check_localised(scene: SceneKind, second: &localise_long::SecondRun, voxel: f64) {
-    let frames = 80;
-    let e = localise_long::run(scene, frames, second, voxel).unwrap();
-    let (loc, odo) = (&e.localised, &e.odometry);
-    assert!(e.tracking.iter().all(|t| *t), "{scene:?}: {:?}", e.tracking);
-    let late = |v: &[f64]| v[frames / 2..].iter().copied().fold(0.0, f64::max);
-    println!(
-        "{scene:?}: localisation error: frame 0 {:.3} m, largest after frame 5 {:.3} m, second half \
-         {:.3} m; odometry second half {:.3} m",
-        loc[0],
-        loc[5..].iter().copied().fold(0.0, f64::max),
-        late(loc),
-        late(odo)
-    );
-    assert!(loc[5..].iter().all(|&x| x < 0.1), "{loc:?}");
-    // No drift: the last quarter's mean error is no larger than the second quarter's (+1 cm).
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let q = frames / 4;
-    assert!(mean(&loc[3 * q..]) < mean(&loc[q..2 * q]) + 0.01, "{loc:?}");
-    assert!(
-        late(loc) < late(odo),
-        "localisation {} vs odometry {}",
-        late(loc),
-        late(odo)
-    );
-}
-
-/// A localiser started far from the truth says it is lost (it does not report a made-up pose
-/// as tracked) and, given a new pose (`set_pose`), tracks again.
-#[test]
-fn a_lost_localiser_says_so_and_recovers_from_a_new_pose() {
-    use keylo::map::localise::{LocaliseConfig, Localiser};
-    use nalgebra::{Translation3, UnitQuaternion, Vector3};
-    let sim = Simulator::new(&SimConfig {
-        scene: SceneKind::Lab,
-        frames: 20,
-        ..SimConfig::default()
-    })
-    .unwrap();
-    let dir = tempfile::tempdir().unwrap();
-    let map = mapped(&sim, MapConfig::default(), &dir.path().join("map"), true);
-    let points = map.points().unwrap();
-    let truth = |k: usize| sim.relative_pose_at(sim.gt_stamp(k));
-    let far = keylo::Pose::from_parts(
-        Translation3::new(3.0, -2.0, 0.0),
-        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 2.0),
-    );
-    let settings = LocaliseConfig {
-        voxel_size: 0.3,
-        ..LocaliseConfig::default()
-    };
-    let mut localiser = Localiser::new(&points, truth(0) * far, settings);
-    let lost: Vec<bool> = (0..5)
-        .map(|k| !localiser.localise(&sim.frame(k), k == 0).tracking)
-        .collect();
-    assert!(
-        lost.iter().all(|&l| l),
-        "tracking from 3.6 m and 115° off: {lost:?}"
-    );
-    localiser.set_pose(truth(4));
-    for k in 5..20 {
-        let l = localiser.localise(&sim.frame(k), false);
-        let e = (l.pose.translation.vector - truth(k).translation.vector).norm();
-        assert!(
-            l.tracking && e < 0.1,
-            "frame {k} after set_pose: fitness {}, error {e}",
-            l.fitness
         );
     }
 }

@@ -4,11 +4,13 @@
 # (a folder of links, times counting up again) from the mapping run's last pose perturbed by
 # 0.2 m and 3°, and the poses are compared with the mapping run's.
 #
-#   scripts/bench/localise_backwards.sh SEQUENCE_DIR OUT_DIR   e.g. ../shared/data/kitti_mini/00
+#   scripts/bench/localise_backwards.sh SEQUENCE_DIR OUT_DIR [LOCALISE_ARGS...]
+#   e.g. ../shared/data/kitti_mini/00 /tmp/kback --set localise.method=ndt
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 SEQ="$(cd "${1:?usage: localise_backwards.sh SEQUENCE_DIR OUT_DIR}" && pwd)"
 OUT="${2:?usage: localise_backwards.sh SEQUENCE_DIR OUT_DIR}"
+shift 2
 BIN="$ROOT/target/release/keylo"
 cd "$ROOT"
 cargo build -q --release --locked -p keylo-cli
@@ -35,7 +37,7 @@ nw = qw * dq[3] - qx * dq[0] - qy * dq[1] - qz * dq[2]
 print(x + 0.2, y, z, nx, ny, nz, nw)
 PY
 )
-"$BIN" localise "$OUT/map" --data "$OUT/rev" --initial-pose "$start" --out "$OUT/loc"
+"$BIN" localise "$OUT/map" --data "$OUT/rev" --initial-pose "$start" --out "$OUT/loc" "$@"
 python3 - "$OUT/run/trajectory.tum" "$OUT/loc/trajectory.tum" <<'PY'
 import math, sys
 read = lambda p: [list(map(float, l.split())) for l in open(p) if l.strip() and not l.startswith("#")]

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Memory of a saved global map over a long run (docs/results/maps.md): raw KISS-ICP on the
 # simulated road loop (~750 m, ~8 m/s) for FRAMES frames (default 10 000, ~11 laps), without
-# a map, with the default tiled map (tiles out of the sensor's reach wait on disk), and, for
-# the first ONE_TILE_FRAMES frames (default 2000), with one tile that holds everything in
-# memory (map.tile_size = 100 km). Prints the process's resident memory at frames 1000, 1700,
+# a map, with the default tiled map (tiles out of the sensor's reach go to disk, and all of
+# them when the voxels in memory pass map.memory_mb), and, for the first ONE_TILE_FRAMES
+# frames (default 2000), with one tile that holds everything in memory (map.tile_size =
+# 100 km, no memory budget). Prints the process's resident memory at frames 1000, 1700,
 # 2500, 5000, 10 000 and its peak (per frame, from frames.csv), per run. Memory only: the
 # three runs' speeds are not comparable unless the machine is otherwise idle.
 #
@@ -23,7 +24,8 @@ run() {
 }
 run no-map "$FRAMES"
 run tiled "$FRAMES" --map-out "$OUT/tiled-map"
-run one-tile "${ONE_TILE_FRAMES:-2000}" --map-out "$OUT/one-tile-map" --set map.tile_size=100000
+run one-tile "${ONE_TILE_FRAMES:-2000}" --map-out "$OUT/one-tile-map" --set map.tile_size=100000 \
+    --set map.memory_mb=1000000
 python3 - "$OUT" <<'PY'
 import csv, json, sys
 out = sys.argv[1]

@@ -35,7 +35,7 @@ sys.path.insert(0, str(HERE))
 from peer_common import (  # noqa: E402
     ROOT, Peer, bag_clouds, check, end_stamp_ns, finish, kitti_bins, quat_angle, read_map_ply,
     read_tum, records, reference_run, to_dds)
-from interop_control import run_control, run_debug  # noqa: E402
+from interop_control import run_localise_control, run_control, run_debug  # noqa: E402
 import ros2_idl as m  # noqa: E402
 
 # ---------------------------------------------------------------- bad clouds
@@ -199,6 +199,13 @@ def main():
     if check(r.returncode == 0, f"keylo sim: {r.stderr[-1000:]}"):
         sim_clouds = kitti_bins(sim, args.sim_frames, 1_700_000_000_000_000_000)
         run_stream("sim-road", sim_clouds, args, args.work, bad_after=3)
+        # Localisation (`[registrar] kind = "localise"`) in the map keylo run saved from the
+        # same scans: the node's poses are keylo run's with the same config.
+        loc = args.work / "sim-road-localise.toml"
+        loc_map = (args.work / "sim-road" / "keylo-run-map").as_posix()
+        loc.write_text(f'[registrar]\nkind = "localise"\nmap = "{loc_map}"\n')
+        run_stream("sim-road-localise", sim_clouds, args, args.work, config=loc)
+        run_localise_control(sim_clouds, args, args.work, loc)
         if len(sim_clouds) >= 8:
             run_control(sim_clouds, read_tum(sim / "gt.tum"), args, args.work)
     if args.kitti:

@@ -179,3 +179,66 @@ def run_debug(clouds, args, work, config):
           f"registered, keypoint and map clouds, keypoint pictures and inverted /tf for each", flush=True)
 
 
+
+
+def run_localise_control(clouds, args, work, config):
+    """A localising node (`[registrar] kind = "localise"`) told a pose far off on
+    keylo/set_pose: the next scan is not tracking, so nothing is published for it and the log
+    says so; told the right pose, it tracks again on keylo run's poses."""
+    name = "localise-control"
+    print(f"== {name}: {len(clouds)} clouds, set_pose far off, then back", flush=True)
+    out = work / name
+    out.mkdir(parents=True, exist_ok=True)
+    ref = reference_run(name, args.keylo, clouds, out, config)
+    if ref is None:
+        return
+    with open(out / "node.log", "w") as log:
+        node = subprocess.Popen(
+            [args.keylo, "ros2", str(config), "--out", str(out / "keylo-ros2"),
+             "--set", "ros2.input_reliability=reliable", "--set", f"ros2.domain_id={args.domain}"],
+            stdout=log, stderr=log)
+    peer = Peer(args.domain)
+    rel = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.History.KeepLast(100))
+    set_pose = DataWriter(peer.dp, Topic(peer.dp, "rt/keylo/set_pose", m.PoseWithCovarianceStamped), qos=rel)
+    answers = {}
+    try:
+        ok = peer.wait_matched()
+        t0 = time.time()
+        while ok and time.time() - t0 < 30 and set_pose.get_publication_matched_status().current_count == 0:
+            time.sleep(0.05)
+
+        def scan(k, timeout):
+            peer.points.write(to_dds(clouds[k]))
+            answers[k], _ = peer.answer(timeout)
+
+        def tell(pose):
+            set_pose.write(m.PoseWithCovarianceStamped(header=m.Header(frame_id="odom_lidar"),
+                                                       pose=m.PoseWithCovariance(pose=pose)))
+            time.sleep(0.3)
+        for k in range(4):
+            scan(k, args.answer_timeout)
+        tell(m.Pose(position=m.Point(ref[3, 1] + 10.0, ref[3, 2] + 5.0, ref[3, 3]),
+                    orientation=m.Quaternion(0.0, 0.0, math.sqrt(0.5), math.sqrt(0.5))))
+        scan(4, 5.0)
+        tell(m.Pose(position=m.Point(*ref[4, 1:4]), orientation=m.Quaternion(*ref[4, 4:8])))
+        scan(5, args.answer_timeout)
+    finally:
+        node.send_signal(signal.SIGINT)
+        code = node.wait(timeout=30)
+    check(code == 0, f"{name}: exit status {code}")
+    pos = lambda a: np.array([a.pose.pose.position.x, a.pose.pose.position.y, a.pose.pose.position.z])
+    check(all(answers.get(k) is not None for k in range(4)), f"{name}: scans 0-3 not all answered")
+    worst = max((float(np.linalg.norm(pos(answers[k]) - ref[k, 1:4])) for k in range(4)
+                 if answers.get(k) is not None), default=float("inf"))
+    check(worst < 1e-6, f"{name}: scans 0-3 {worst:.2e} m from keylo run's poses")
+    check(answers.get(4) is None, f"{name}: scan 4, localised from 11 m off, was published")
+    log_text = (out / "node.log").read_text()
+    check("not tracking in the map" in log_text and "nothing published" in log_text,
+          f"{name}: no log line saying scan 4 was not tracking")
+    err5 = float(np.linalg.norm(pos(answers[5]) - ref[5, 1:4])) if answers.get(5) is not None else float("inf")
+    check(err5 < 0.05, f"{name}: after set_pose back, scan 5 is {err5:.3f} m from keylo run's pose")
+    summary = json.loads((out / "keylo-ros2/summary.json").read_text())["ros2"]
+    check(summary["frames_not_tracking"] == 1 and summary["poses_set"] == 2,
+          f"{name}: node counts {summary}")
+    print(f"{name}: scans on keylo run's poses; the scan localised from 11 m off was not published "
+          f"and was logged; set back, scan 5 within {err5:.4f} m", flush=True)

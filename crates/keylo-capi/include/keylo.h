@@ -95,6 +95,13 @@ typedef struct KeyloFrameStats {
   double describe_ms;
   double downsample_ms;
   double register_ms;
+  // Whether the registrar localises in a prior map (`[registrar] kind = "localise"`):
+  // then `fitness` and `tracking` hold the frame's fit; else they are 0 and false.
+  bool localised;
+  // Share of the registered points with a map point within the fitness distance.
+  double fitness;
+  // The fitness reached its threshold; a frame not tracking has a pose not to be trusted.
+  bool tracking;
 } KeyloFrameStats;
 
 // The pose of the last frame.

@@ -95,7 +95,8 @@ fn map_reference(out: &mut String) {
     use keylo::map::localise::LocaliseConfig;
     out.push_str(
         "\n## `[localise]`\n\nHow `keylo localise MAP --data X` registers each frame against a \
-         saved map (docs/maps.md); other commands carry the table through unread.\n\n",
+         saved map (docs/maps.md); other commands carry the table through unread. The same \
+         keys make the `[registrar] kind = \"localise\"` of any front end.\n\n",
     );
     let schema = schemars::schema_for!(LocaliseConfig).to_value();
     let defaults = toml::Table::try_from(LocaliseConfig::default()).unwrap_or_default();

@@ -6,12 +6,11 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{anyhow, Context, Result};
 use clap::Args;
-use keylo::map::localise::{LocaliseConfig, Localiser};
+use keylo::map::localise::{initial_pose, pose_of_text, pose_of_values, LocaliseConfig, Localiser};
 use keylo::map::Map;
-use keylo::{Pose, Trajectory};
-use nalgebra::{Quaternion, Translation3, UnitQuaternion};
+use keylo::Trajectory;
 
 use crate::configs;
 
@@ -49,18 +48,13 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         &args.sets,
     )?;
     let settings = LocaliseConfig::from_table(&config.localise, &config.origin)?;
-    let initial = match &args.initial_pose {
-        Some(text) => parse_pose(text)?,
-        None => match map.keyframes().first() {
-            Some(k) => k.pose,
-            None => bail!(
-                "{}: the map has no keyframe; give --initial-pose",
-                args.map.display()
-            ),
-        },
+    let given = match (&args.initial_pose, settings.initial_pose.as_slice()) {
+        (Some(text), _) => Some(pose_of_text(text).map_err(|e| anyhow!("--initial-pose {e}"))?),
+        (None, []) => None,
+        (None, v) => Some(pose_of_values(v).map_err(|e| anyhow!("localise.initial_pose: {e}"))?),
     };
-    check_inside(&map, &initial)?;
-    let mut localiser = Localiser::new(&map.points()?, initial, settings);
+    let initial = initial_pose(&map, given)?;
+    let mut localiser = Localiser::new(&map.points()?, initial, settings)?;
     let mut source = keylo::build_source(&config, &registry)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
@@ -72,14 +66,12 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     writeln!(csv, "frame,stamp,fitness,tracking,iterations,points,ms")?;
     let mut trajectory = Trajectory::default();
     let (mut lost, mut seconds) = (0usize, 0.0);
-    let mut first = true;
     while let Some(frame) = source.next_frame() {
         let frame = frame?;
         let t = std::time::Instant::now();
-        let l = localiser.localise(&frame, first);
+        let l = localiser.localise(&frame);
         let s = t.elapsed().as_secs_f64();
         seconds += s;
-        first = false;
         let stamp = frame.end_stamp();
         if !l.tracking {
             lost += 1;
@@ -118,66 +110,4 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// "x y z qx qy qz qw" as a pose; the error says what is wrong.
-fn parse_pose(text: &str) -> Result<Pose> {
-    let v: Vec<f64> = text
-        .split([' ', ','])
-        .filter(|s| !s.is_empty())
-        .map(str::parse)
-        .collect::<Result<_, _>>()
-        .with_context(|| {
-            format!("--initial-pose \"{text}\": expected seven numbers x y z qx qy qz qw")
-        })?;
-    let [x, y, z, qx, qy, qz, qw] = v[..] else {
-        bail!(
-            "--initial-pose \"{text}\": {} numbers; expected seven (x y z qx qy qz qw)",
-            v.len()
-        );
-    };
-    if v.iter().any(|c| !c.is_finite()) {
-        bail!("--initial-pose \"{text}\": not every number is finite");
-    }
-    let q = Quaternion::new(qw, qx, qy, qz);
-    if (q.norm() - 1.0).abs() > 1e-3 {
-        bail!(
-            "--initial-pose \"{text}\": the quaternion's norm is {}; expected 1 (a rotation)",
-            q.norm()
-        );
-    }
-    Ok(Pose::from_parts(
-        Translation3::new(x, y, z),
-        UnitQuaternion::from_quaternion(q),
-    ))
-}
-
-/// How far outside the map's box (x, y, z) an initial position may lie, m.
-const OUTSIDE_MARGIN_M: f64 = 5.0;
-
-/// An initial pose farther than [`OUTSIDE_MARGIN_M`] outside the map's box is an error naming
-/// both (a pose in another frame, or meant for another map).
-fn check_inside(map: &Map, pose: &Pose) -> Result<()> {
-    let Some(b) = &map.manifest().bounds else {
-        bail!(
-            "{}: the map holds no point to localise in",
-            map.dir().display()
-        );
-    };
-    let p = pose.translation.vector;
-    let outside =
-        (0..3).any(|k| p[k] < b.min[k] - OUTSIDE_MARGIN_M || p[k] > b.max[k] + OUTSIDE_MARGIN_M);
-    if outside {
-        bail!(
-            "--initial-pose ({:.2}, {:.2}, {:.2}) lies outside the map {} (box {:.2?} .. {:.2?}, \
-             {OUTSIDE_MARGIN_M} m margin): expected a pose in the map's world frame",
-            p.x,
-            p.y,
-            p.z,
-            map.dir().display(),
-            b.min,
-            b.max
-        );
-    }
-    Ok(())
 }

@@ -283,6 +283,14 @@ fn process_all(
                 }
                 st.trajectory.push(r.stamp, r.pose);
                 st.totals.add(&r);
+                if let Some(fit) = r.fit.filter(|f| !f.tracking) {
+                    tracing::warn!(
+                        "{}: not tracking in the map (fitness {:.2}); its pose is not to be \
+                         trusted",
+                        frame_name(pipeline, frame.index),
+                        fit.fitness
+                    );
+                }
                 let row = report::FrameRow {
                     frame: frame.index,
                     stamp: r.stamp,

@@ -48,6 +48,10 @@ pub struct Summary {
     pub mean_registered_points: f64,
     pub mean_iterations: f64,
     pub frames_not_converged: usize,
+    /// Localisation in a prior map (`[registrar] kind = "localise"`): frames whose fitness
+    /// stayed below the threshold (each logged as a warning); absent for odometry.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frames_not_tracking: Option<usize>,
     pub stage_ms: StageMs,
     pub peak_rss_mb: Option<f64>,
     pub cpu_percent: Option<f64>,
@@ -92,6 +96,9 @@ pub struct Totals {
     pub not_converged: usize,
     /// Frames registered without a point (pose predicted).
     pub predicted: usize,
+    /// Frames that reported a fit to a prior map, and those of them not tracking.
+    pub localised: usize,
+    pub not_tracking: usize,
     pub timings: StageTimings,
     pub odometry_seconds: f64,
 }
@@ -105,6 +112,10 @@ impl Totals {
         self.iterations += r.iterations;
         self.not_converged += usize::from(!r.converged);
         self.predicted += usize::from(r.registered_points == 0);
+        if let Some(fit) = &r.fit {
+            self.localised += 1;
+            self.not_tracking += usize::from(!fit.tracking);
+        }
         let t = &mut self.timings;
         t.image += r.timings.image;
         t.detect += r.timings.detect;
@@ -122,6 +133,7 @@ impl Totals {
         s.mean_iterations = self.iterations as f64 / n;
         s.frames_not_converged = self.not_converged;
         s.frames_predicted = self.predicted;
+        s.frames_not_tracking = (self.localised > 0).then_some(self.not_tracking);
         s.odometry_hz = if self.odometry_seconds > 0.0 {
             self.frames as f64 / self.odometry_seconds
         } else {

@@ -36,7 +36,7 @@ pub use pipeline::{
 pub use registry::{BuildContext, Registry};
 pub use scan::{GridOccupancy, PixelPoints, ScanPoints};
 pub use stages::{
-    Descriptor, Detector, Downsampler, ImageBuilder, ImageSource, Registrar, Registration,
+    Descriptor, Detector, Downsampler, ImageBuilder, ImageSource, MapFit, Registrar, Registration,
     SourceInfo,
 };
 pub use trajectory::{Pose, Trajectory};

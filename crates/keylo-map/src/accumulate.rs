@@ -22,6 +22,17 @@ impl VoxelMean {
         self.intensity += (intensity - self.intensity) * w;
     }
 
+    /// Takes in another mean of the same voxel (the points of both, weighted by count).
+    pub fn merge(&mut self, other: &Self) {
+        let count = self.count.saturating_add(other.count);
+        let w = f64::from(other.count) / f64::from(count.max(1));
+        for (m, v) in self.mean.iter_mut().zip(other.mean) {
+            *m += (v - *m) * w;
+        }
+        self.intensity += (other.intensity - self.intensity) * w;
+        self.count = count;
+    }
+
     /// The mean of one point.
     pub fn first(p: [f64; 3], intensity: f64) -> Self {
         Self {
@@ -68,7 +79,9 @@ pub(crate) fn to_bytes(voxels: &Voxels) -> Vec<u8> {
     out
 }
 
-/// The voxels of [`to_bytes`]' output; `Err` says why the bytes are not a tile.
+/// The voxels of [`to_bytes`]' output, or of several such outputs one after the other (the
+/// parts of a tile written at different times): records of the same voxel are merged. `Err`
+/// says why the bytes are not a tile.
 pub(crate) fn from_bytes(bytes: &[u8]) -> Result<Voxels, String> {
     if !bytes.len().is_multiple_of(RECORD) {
         return Err(format!(
@@ -92,7 +105,7 @@ pub(crate) fn from_bytes(bytes: &[u8]) -> Result<Voxels, String> {
             intensity: f64_at(36),
             count,
         };
-        voxels.insert(key, v);
+        voxels.entry(key).and_modify(|m| m.merge(&v)).or_insert(v);
     }
     Ok(voxels)
 }
@@ -113,6 +126,17 @@ mod tests {
         voxels.insert([5, -9, 0], VoxelMean::first([0.5, -0.25, 1e3], 0.0));
         let bytes = to_bytes(&voxels);
         assert_eq!(from_bytes(&bytes).unwrap(), voxels);
+        // Two parts of the same tile: the voxel in both is merged by count.
+        let mut later = Voxels::default();
+        later.insert([-1, 0, 7], VoxelMean::first([6.0, 7.0, 8.0], 40.0));
+        let parts = [bytes.clone(), to_bytes(&later)].concat();
+        let merged = from_bytes(&parts).unwrap();
+        assert_eq!(merged.len(), 2);
+        assert_eq!(merged[&[-1, 0, 7]].mean, [3.0, 4.0, 5.0]);
+        assert_eq!(
+            (merged[&[-1, 0, 7]].intensity, merged[&[-1, 0, 7]].count),
+            (25.0, 4)
+        );
         assert!(from_bytes(&bytes[1..])
             .unwrap_err()
             .contains("whole number"));

@@ -52,6 +52,7 @@ impl MapBuilder {
                 config.voxel_size,
                 config.tile_size,
                 config.max_range,
+                config.voxel_budget(),
                 &scratch,
             )?,
             keyframes: KeyframeLog::create(dir)?,

@@ -17,8 +17,12 @@ pub struct MapConfig {
     /// the sensor the map's tiles stay in memory.
     pub max_range: f64,
     /// Edge of the square tiles (x, y; m) the map is built in. Tiles out of the sensor's
-    /// reach wait on disk until the run comes back or ends.
+    /// reach go to disk; all are merged at the end.
     pub tile_size: f64,
+    /// Memory for the voxels being built, MB (about 72 bytes a voxel): past it every tile in
+    /// memory goes to disk, so a long run, or one that passes the same place many times,
+    /// stays within it. The saved map is the same (means equal to f32 rounding).
+    pub memory_mb: f64,
     /// A new keyframe when the sensor has moved this far from the last keyframe (m).
     pub keyframe_distance: f64,
     /// … or turned this much (degrees).
@@ -41,6 +45,7 @@ impl Default for MapConfig {
             min_range: 0.0,
             max_range: 100.0,
             tile_size: 50.0,
+            memory_mb: 256.0,
             keyframe_distance: 1.0,
             keyframe_angle_deg: 10.0,
             keyframe_voxel_size: 0.1,
@@ -50,7 +55,16 @@ impl Default for MapConfig {
     }
 }
 
+/// Bytes a voxel takes in memory while a map is built (key, mean, intensity, count, and the
+/// hash table's share), for `memory_mb`.
+pub(crate) const BYTES_PER_VOXEL: f64 = 72.0;
+
 impl MapConfig {
+    /// Voxels that fit in `memory_mb`.
+    pub(crate) fn voxel_budget(&self) -> usize {
+        (self.memory_mb * 1e6 / BYTES_PER_VOXEL) as usize
+    }
+
     /// The settings of a config's `[map]` table (`origin` names the config in errors); the
     /// error names the key and what was expected.
     pub fn from_table(table: &toml::Table, origin: &str) -> Result<Self, MapError> {
@@ -63,6 +77,7 @@ impl MapConfig {
             ("voxel_size", self.voxel_size),
             ("max_range", self.max_range),
             ("tile_size", self.tile_size),
+            ("memory_mb", self.memory_mb),
         ];
         for (key, v) in positive {
             if !(v.is_finite() && v > 0.0) {

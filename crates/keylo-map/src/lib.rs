@@ -3,9 +3,10 @@
 //! A map folder holds the whole run's cloud in the world frame, voxelised (each voxel keeps
 //! the centroid and mean intensity of its points) as `map.ply` and `map.pcd`, and keyframes
 //! (pose, stamp, the keyframe's cloud, its keypoints and descriptors when the pipeline made
-//! them), described by a versioned `map.json`. While a map is built only the tiles of the
-//! world within the sensor's reach stay in memory; the others wait on disk, so memory stays
-//! bounded however long the run.
+//! them), described by a versioned `map.json`. While a map is built only what was added to
+//! the tiles within the sensor's reach (since it last came by) stays in memory, within a
+//! budget (`memory_mb`); the rest is on disk and merged at the end, so memory stays bounded
+//! however long the run.
 //!
 //! - [`MapBuilder`]: feed it each registered frame, then `finish`.
 //! - [`Map`]: an existing map folder, checked ([`Map::open`]), its cloud read or cropped.

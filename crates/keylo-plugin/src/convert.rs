@@ -265,6 +265,7 @@ pub fn registration_from_abi(r: &KeyloRegistration) -> Result<Registration, AbiE
         converged: r.converged,
         // ABI v1 has no degeneracy report.
         degeneracy: None,
+        fit: None,
     })
 }
 

@@ -44,6 +44,7 @@ impl Registrar for Follower {
             iterations: 1,
             converged: true,
             degeneracy: None,
+            fit: None,
         })
     }
 

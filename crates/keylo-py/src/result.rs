@@ -76,6 +76,20 @@ impl FrameResult {
         self.out.result.converged
     }
 
+    /// Localisation in a prior map (`[registrar] kind = "localise"`): the share of the
+    /// registered points with a map point within the fitness distance; None for odometry.
+    #[getter]
+    fn fitness(&self) -> Option<f64> {
+        self.out.result.fit.map(|f| f.fitness)
+    }
+
+    /// Localisation: whether the fitness reached its threshold (False: the pose is not to be
+    /// trusted); None for odometry.
+    #[getter]
+    fn tracking(&self) -> Option<bool> {
+        self.out.result.fit.map(|f| f.tracking)
+    }
+
     /// Seconds per stage: `image`, `detect`, `describe`, `downsample`, `register`, `total`.
     #[getter]
     fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

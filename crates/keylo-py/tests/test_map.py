@@ -55,3 +55,42 @@ def test_frames_carry_the_fitted_covariance(sim_bins):
         np.testing.assert_allclose(c, c.T, rtol=1e-9, atol=1e-18)
         assert np.linalg.eigvalsh(c).min() > 0
         assert np.trace(c) > np.trace(r.covariance(0.03))
+
+
+def test_localisation_in_a_saved_map_from_a_config(sim_bins, tmp_path):
+    """`[registrar] kind = "localise"`: the frames localised in the map saved from them stay
+    on the mapping run's poses, each with its fit; a pose given far off is reported as not
+    tracking, and `set_pose` finds the map again. Odometry frames carry no fit."""
+    import numpy as np
+    odometry = keylo.Odometry(CONFIG)
+    odometry.save_map(tmp_path / "map")
+    frames = list(keylo.open(sim_bins))
+    mapped = [odometry.process_frame(f) for f in frames]
+    odometry.finish_map()
+    assert all(r.fitness is None and r.tracking is None for r in mapped)
+    for method in ["icp", "ndt"]:
+        localiser = keylo.Odometry(f"""
+[registrar]
+kind = "localise"
+map = "{(tmp_path / 'map').as_posix()}"
+method = "{method}"
+voxel_size = 0.3
+ndt.resolution = 1.0
+""")
+        for r0, f in zip(mapped[:6], frames[:6]):
+            r = localiser.process_frame(f)
+            assert r.tracking, (method, r.index, r.fitness)
+            assert 0.5 <= r.fitness <= 1.0
+            assert np.linalg.norm(r.pose[:3, 3] - r0.pose[:3, 3]) < 0.05, (method, r.index)
+        far = np.array(mapped[5].pose)
+        far[:3, 3] += [3.0, -2.0, 0.0]
+        far[:3, :3] = far[:3, :3] @ np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+        localiser.set_pose(far)
+        assert localiser.process_frame(frames[6]).tracking is False
+        localiser.set_pose(mapped[6].pose)
+        assert localiser.process_frame(frames[7]).tracking is True
+
+
+def test_a_localise_config_without_a_map_is_an_error():
+    with pytest.raises(keylo.KeyloError, match=r"`map` is empty; expected the folder of a saved map"):
+        keylo.Odometry('[registrar]\nkind = "localise"\n')

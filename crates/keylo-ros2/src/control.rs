@@ -44,6 +44,10 @@ impl Ros2Node {
                     );
                     return;
                 }
+                if self.localising {
+                    self.relocalise(odometry, base);
+                    return;
+                }
                 // The published odometry is re-anchored: the base is at `base` now and moves on
                 // from there. keylo's own map and poses are left as they are, so registration
                 // goes on against a consistent map.
@@ -61,6 +65,21 @@ impl Ros2Node {
                     self.pending_prior = true;
                 }
             }
+        }
+    }
+
+    /// Set-pose for a localiser: the map is fixed, so the localiser itself starts again from
+    /// `base` (its LiDAR pose) rather than the output being re-anchored.
+    fn relocalise(&mut self, odometry: &mut Odometry, base: Isometry3<f64>) {
+        match odometry.set_pose(&self.base.lidar_pose(&base)) {
+            Ok(()) => {
+                self.anchor = Isometry3::identity();
+                self.last_raw_base = Some(base);
+                self.previous = self.previous.map(|(_, t)| (base, t));
+                self.stats.poses_set += 1;
+                tracing::info!("ros2: pose set: the localiser starts again from it");
+            }
+            Err(e) => tracing::warn!("ros2: set-pose refused: {e}"),
         }
     }
 

@@ -32,6 +32,10 @@ pub struct NodeStats {
     pub messages_undecodable: u64,
     /// Frames registered and published.
     pub frames: u64,
+    /// Localisation in a prior map (`[registrar] kind = "localise"`): registered frames that
+    /// were not tracking, so nothing was published for them (no odometry, TF or path: a pose
+    /// not to be trusted is not reported as one).
+    pub frames_not_tracking: u64,
     /// Frames whose covariance was the fixed fallback (no estimate from the registrar).
     pub fallback_covariances: u64,
     /// Frames whose initial guess came from the motion prior topic.
@@ -101,13 +105,21 @@ pub struct Ros2Node {
     pub(crate) last_lidar: Option<Isometry3<f64>>,
     /// How a frame's `H⁻¹` becomes its covariance.
     pub(crate) noise: NoiseModel,
+    /// The registrar localises in a prior map (`localise`): set-pose relocalises it.
+    pub(crate) localising: bool,
 }
 
 impl Ros2Node {
     /// Sets the covariance's noise model for the pipeline's registrar `kind`: with
     /// `ros2.residual_sigma_m = 0` the model fitted for it (plain `σ² H⁻¹` with σ = 0.03 m and
     /// a warning for a registrar without one), else plain `σ² H⁻¹` with the configured σ.
+    /// A `localise` registrar makes no `H` (its frames take the fixed covariance) and makes
+    /// set-pose a relocalisation.
     pub fn set_registrar(&mut self, kind: &str) {
+        self.localising = kind == "localise";
+        if self.localising {
+            return;
+        }
         let sigma = self.config.residual_sigma_m;
         self.noise = NoiseModel::for_registrar(kind, sigma, "ros2.residual_sigma_m");
     }
@@ -166,6 +178,7 @@ impl Ros2Node {
             pending_prior: false,
             last_lidar: None,
             noise: NoiseModel::plain(PLAIN_SIGMA_M),
+            localising: false,
         })
     }
 
@@ -315,6 +328,15 @@ impl Ros2Node {
         cloud_frame: &str,
         stamp_ns: i64,
     ) {
+        if let Some(fit) = r.fit.filter(|f| !f.tracking) {
+            self.stats.frames_not_tracking += 1;
+            tracing::warn!(
+                "ros2: frame {}: not tracking in the map (fitness {:.2}); nothing published",
+                r.index,
+                fit.fitness
+            );
+            return;
+        }
         let stamp = Time::from_ns(stamp_ns);
         let base_frame = if self.config.base_frame.is_empty() {
             cloud_frame

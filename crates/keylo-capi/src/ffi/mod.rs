@@ -17,6 +17,7 @@ mod types;
 
 pub use hooks::{keylo_pipeline_reset, keylo_pipeline_set_motion_prior, keylo_pipeline_set_pose};
 pub use input::{keylo_pipeline_push_frame, keylo_pipeline_push_points};
+pub use map::{keylo_pipeline_finish_map, keylo_pipeline_save_map};
 pub use output::{
     keylo_pipeline_cloud, keylo_pipeline_covariance, keylo_pipeline_degeneracy,
     keylo_pipeline_local_map, keylo_pipeline_pose, keylo_pipeline_stats,

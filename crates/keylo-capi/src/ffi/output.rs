@@ -45,6 +45,9 @@ pub unsafe extern "C" fn keylo_pipeline_stats(
             describe_ms: ms(r.timings.describe),
             downsample_ms: ms(r.timings.downsample),
             register_ms: ms(r.timings.register),
+            localised: r.fit.is_some(),
+            fitness: r.fit.map_or(0.0, |f| f.fitness),
+            tracking: r.fit.is_some_and(|f| f.tracking),
         };
         // SAFETY: forwarded from the caller.
         unsafe { write_out(out, stats, "out") }

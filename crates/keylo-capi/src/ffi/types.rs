@@ -99,6 +99,13 @@ pub struct KeyloFrameStats {
     pub describe_ms: f64,
     pub downsample_ms: f64,
     pub register_ms: f64,
+    /// Whether the registrar localises in a prior map (`[registrar] kind = "localise"`):
+    /// then `fitness` and `tracking` hold the frame's fit; else they are 0 and false.
+    pub localised: bool,
+    /// Share of the registered points with a map point within the fitness distance.
+    pub fitness: f64,
+    /// The fitness reached its threshold; a frame not tracking has a pose not to be trusted.
+    pub tracking: bool,
 }
 
 /// A keylo pipeline (opaque). A handle, not an address: a freed or made-up handle is

@@ -55,6 +55,8 @@ pub struct FrameResult {
     pub converged: bool,
     /// The registrar's degeneracy analysis of this frame, when it makes one.
     pub degeneracy: Option<crate::Degeneracy>,
+    /// How well the frame fits the prior map, when the registrar localises in one.
+    pub fit: Option<crate::MapFit>,
     pub timings: StageTimings,
 }
 
@@ -74,6 +76,7 @@ impl FrameResult {
             iterations: 0,
             converged: true,
             degeneracy: None,
+            fit: None,
             timings: StageTimings::default(),
         }
     }
@@ -277,6 +280,7 @@ impl Odometry {
             iterations: reg.iterations,
             converged: reg.converged,
             degeneracy: reg.degeneracy,
+            fit: reg.fit,
             timings,
         };
         Ok((result, features))

@@ -13,5 +13,5 @@ pub use descriptor::Descriptor;
 pub use detector::Detector;
 pub use downsampler::Downsampler;
 pub use image_builder::ImageBuilder;
-pub use registrar::{Registrar, Registration};
+pub use registrar::{MapFit, Registrar, Registration};
 pub use source::{ImageSource, SourceInfo};

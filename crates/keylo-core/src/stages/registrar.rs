@@ -20,6 +20,20 @@ pub struct Registration {
     /// How well the geometry constrained the pose (eigen-analysis of the normal equations at
     /// convergence), for registrars that report it.
     pub degeneracy: Option<Degeneracy>,
+    /// How well the cloud fits a fixed prior map, for registrars that localise in one
+    /// (`localise`); `None` for odometry.
+    pub fit: Option<MapFit>,
+}
+
+/// How well a registered cloud fits a fixed prior map (localisation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapFit {
+    /// Share of the registered points with a map point within the registrar's fitness
+    /// distance.
+    pub fitness: f64,
+    /// `fitness` reached the registrar's threshold: the pose is tracked. A frame that is not
+    /// tracking has a pose that is not to be trusted.
+    pub tracking: bool,
 }
 
 /// Estimates the sensor pose of each cloud against its own local map (odometry).
@@ -113,6 +127,7 @@ mod tests {
                 iterations: 0,
                 converged: true,
                 degeneracy: None,
+                fit: None,
             })
         }
         fn map_size(&self) -> usize {

@@ -40,6 +40,12 @@ class FrameResult:
     @property
     def converged(self) -> bool: ...
     @property
+    def fitness(self) -> float | None:
+        """Localisation (registrar kind "localise"): share of points fitting the map; None for odometry."""
+    @property
+    def tracking(self) -> bool | None:
+        """Localisation: whether the fitness reached its threshold (False: pose not to be trusted)."""
+    @property
     def timings(self) -> dict[str, float]:
         """Seconds per stage: image, detect, describe, downsample, register, total."""
     @property

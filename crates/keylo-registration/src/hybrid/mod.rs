@@ -214,6 +214,7 @@ impl Hybrid {
             iterations: r.iterations,
             converged: r.converged || r.iterations == 0,
             degeneracy: outcome.degeneracy,
+            fit: None,
         })
     }
 }

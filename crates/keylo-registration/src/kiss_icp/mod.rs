@@ -444,6 +444,7 @@ impl Registrar for KissIcp {
             // The first frame has no map to align to: nothing to converge.
             converged: result.converged || result.iterations == 0,
             degeneracy,
+            fit: None,
         })
     }
 

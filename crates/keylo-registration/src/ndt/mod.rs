@@ -183,6 +183,7 @@ impl Registrar for Ndt {
             iterations: result.iterations,
             converged: result.converged,
             degeneracy,
+            fit: None,
         })
     }
 
