@@ -83,7 +83,7 @@ ndt.resolution = 1.0
             assert 0.5 <= r.fitness <= 1.0
             assert np.linalg.norm(r.pose[:3, 3] - r0.pose[:3, 3]) < 0.05, (method, r.index)
         far = np.array(mapped[5].pose)
-        far[:3, 3] += [3.0, -2.0, 0.0]
+        far[:3, 3] += [8.0, -5.0, 0.0]  # outside the room
         far[:3, :3] = far[:3, :3] @ np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
         localiser.set_pose(far)
         assert localiser.process_frame(frames[6]).tracking is False
