@@ -17,8 +17,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use keylo_registration::ndt::{align, AlignSettings, GridSettings, NdtTarget, NeighbourSearch};
-use keylo_registration::voxel;
 use nalgebra::{Isometry3, Point3};
+
+#[path = "common/clouds.rs"]
+mod clouds;
+use clouds::{filtered, load, pose_line};
 
 struct Opts {
     grid: GridSettings,
@@ -65,46 +68,6 @@ fn parse(args: &[String]) -> Result<Opts, String> {
     Ok(o)
 }
 
-/// KITTI `.bin` or a binary little-endian PLY whose vertex properties are all `float`.
-fn load(path: &Path) -> Result<Vec<Point3<f64>>, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let (body, stride) = if path.extension().is_some_and(|e| e == "ply") {
-        let end = bytes
-            .windows(11)
-            .position(|w| w == b"end_header\n")
-            .ok_or_else(|| format!("{}: no PLY header end", path.display()))?;
-        let header = String::from_utf8_lossy(&bytes[..end]);
-        if !header.contains("binary_little_endian") {
-            return Err(format!("{}: only binary little-endian PLY", path.display()));
-        }
-        let props = header.lines().filter(|l| l.starts_with("property")).count();
-        if header
-            .lines()
-            .any(|l| l.starts_with("property") && !l.starts_with("property float "))
-        {
-            return Err(format!("{}: only float properties", path.display()));
-        }
-        (&bytes[end + 11..], 4 * props)
-    } else {
-        (&bytes[..], 16)
-    };
-    let f =
-        |c: &[u8], i: usize| f64::from(f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]));
-    Ok(body
-        .chunks_exact(stride)
-        .map(|c| Point3::new(f(c, 0), f(c, 4), f(c, 8)))
-        .filter(|p| p.coords.iter().all(|v| v.is_finite()))
-        .collect())
-}
-
-fn filtered(points: Vec<Point3<f64>>, size: f64) -> Vec<Point3<f64>> {
-    if size > 0.0 {
-        voxel::centroids(&points, size)
-    } else {
-        points
-    }
-}
-
 fn run_align(
     src: &[Point3<f64>],
     tgt: &[Point3<f64>],
@@ -115,14 +78,6 @@ fn run_align(
     let target = NdtTarget::new(tgt, &o.grid, o.search).map_err(|e| e.to_string())?;
     let r = align(&target, src, guess, &o.solver).map_err(|e| e.to_string())?;
     Ok((r.pose, r.iterations, t0.elapsed().as_secs_f64() * 1e3))
-}
-
-fn pose_line(t: f64, p: &Isometry3<f64>) -> String {
-    let (v, q) = (p.translation.vector, p.rotation.coords);
-    format!(
-        "{t:.6} {:.6} {:.6} {:.6} {:.9} {:.9} {:.9} {:.9}",
-        v.x, v.y, v.z, q.x, q.y, q.z, q.w
-    )
 }
 
 fn main() -> Result<(), String> {

@@ -1,0 +1,124 @@
+//! Per-point covariances of a cloud from its `k` nearest neighbours, regularised as PCL's
+//! `GeneralizedIterativeClosestPoint::computeCovariances` (Segal et al. 2009): the sample
+//! covariance's eigenvectors kept, its eigenvalues set to (1, 1, ε), so every point is a small
+//! plane patch whatever the neighbours' spread.
+
+use std::num::NonZero;
+
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use nalgebra::{Matrix3, Point3, SymmetricEigen, Vector3};
+use rayon::prelude::*;
+
+use crate::RegistrationError;
+
+/// A cloud with the k-d tree of its points (for correspondences and neighbours).
+pub struct Indexed {
+    pub points: Vec<Point3<f64>>,
+    pub tree: ImmutableKdTree<f64, 3>,
+}
+
+impl Indexed {
+    /// Builds the tree; an error for an empty cloud.
+    pub fn new(points: Vec<Point3<f64>>) -> Result<Self, RegistrationError> {
+        let coords: Vec<[f64; 3]> = points.iter().map(|p| [p.x, p.y, p.z]).collect();
+        let tree = ImmutableKdTree::new_from_slice(&coords)
+            .map_err(|e| RegistrationError::BadCloud(format!("GICP k-d tree: {e:?}")))?;
+        Ok(Self { points, tree })
+    }
+
+    /// The nearest point to `q`: (index, squared distance).
+    #[inline]
+    pub fn nearest(&self, q: &Point3<f64>) -> (usize, f64) {
+        let hit = self
+            .tree
+            .query(&[q.x, q.y, q.z])
+            .nearest_one::<SquaredEuclidean<f64>>()
+            .execute();
+        (hit.item as usize, hit.distance)
+    }
+}
+
+/// The regularised covariance of every point of `cloud` from its `k` nearest neighbours
+/// (itself included, as PCL's `nearestKSearch`), eigenvalues set to (1, 1, `epsilon`).
+/// With fewer than `k` points in the cloud, all of them are the neighbours.
+pub fn covariances(cloud: &Indexed, k: usize, epsilon: f64) -> Vec<Matrix3<f64>> {
+    covariances_at(cloud, &cloud.points, k, epsilon)
+}
+
+/// [`covariances`] at `queries`, each from its `k` nearest points of `cloud` (a sparse cloud's
+/// points get their patches from a denser one).
+pub fn covariances_at(
+    cloud: &Indexed,
+    queries: &[Point3<f64>],
+    k: usize,
+    epsilon: f64,
+) -> Vec<Matrix3<f64>> {
+    let k = k.min(cloud.points.len()).max(1);
+    let n = NonZero::new(k).unwrap_or(NonZero::<usize>::MIN);
+    queries
+        .par_iter()
+        .with_min_len(256)
+        .map(|p| {
+            let hits = cloud
+                .tree
+                .query(&[p.x, p.y, p.z])
+                .nearest_n::<SquaredEuclidean<f64>>(n)
+                .execute();
+            let mut mean = Vector3::zeros();
+            let mut outer = Matrix3::zeros();
+            for h in &hits {
+                let q = cloud.points[h.item as usize].coords;
+                mean += q;
+                outer += q * q.transpose();
+            }
+            let m = hits.len().max(1) as f64;
+            mean /= m;
+            let cov = outer / m - mean * mean.transpose();
+            regularise(&cov, epsilon)
+        })
+        .collect()
+}
+
+/// The covariance with its eigenvectors and eigenvalues (1, 1, `epsilon`), the smallest
+/// eigenvalue's direction (the patch's normal) getting `epsilon`.
+pub fn regularise(cov: &Matrix3<f64>, epsilon: f64) -> Matrix3<f64> {
+    let eig = SymmetricEigen::new(*cov);
+    let smallest = eig.eigenvalues.imin();
+    let mut out = Matrix3::zeros();
+    for i in 0..3 {
+        let v = eig.eigenvectors.column(i);
+        let w = if i == smallest { epsilon } else { 1.0 };
+        out += w * v * v.transpose();
+    }
+    out
+}
+
+/// The unit direction a regularised covariance is thinnest along (the patch's normal).
+pub fn normal(cov: &Matrix3<f64>) -> Vector3<f64> {
+    let eig = SymmetricEigen::new(*cov);
+    eig.eigenvectors.column(eig.eigenvalues.imin()).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn points_on_a_plane_get_its_normal_with_epsilon() {
+        let pts: Vec<Point3<f64>> = (0..400)
+            .map(|i| {
+                let (a, b) = (f64::from(i % 20) * 0.1, f64::from(i / 20) * 0.1);
+                // The plane z = 0.5 x, tilted.
+                Point3::new(a, b, 0.5 * a)
+            })
+            .collect();
+        let cloud = Indexed::new(pts).unwrap();
+        let covs = covariances(&cloud, 20, 1e-3);
+        let normal = Vector3::new(-0.5, 0.0, 1.0).normalize();
+        for c in covs.iter().step_by(37) {
+            assert!(((normal.transpose() * c * normal)[0] - 1e-3).abs() < 1e-9);
+            let along = Vector3::new(1.0, 0.0, 0.5).normalize();
+            assert!(((along.transpose() * c * along)[0] - 1.0).abs() < 1e-9);
+        }
+    }
+}

@@ -1,0 +1,160 @@
+//! GICP's local map: KISS-ICP's voxel hash (at most `max_points_per_voxel` points a voxel,
+//! spaced by `voxel_size / √max_points`, voxels beyond `max_range` from the sensor dropped),
+//! each point with its covariance in the world frame — computed once, from the frame that
+//! brought it, and rotated with that frame's pose (small_gicp's incremental map does the
+//! same), so no frame recomputes the map's covariances.
+
+use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
+
+use super::align::{Neighbour, Target};
+use super::covariances::normal;
+use crate::kiss_icp::voxel_map::NEIGHBOURS;
+use crate::voxel::{voxel_of, VoxelMap};
+
+/// A map point with its covariance and normal (world frame).
+type Entry = (Point3<f64>, Matrix3<f64>, Vector3<f64>);
+
+/// A voxel's points.
+#[derive(Default)]
+struct Block {
+    points: Vec<Entry>,
+}
+
+/// The local map of points with covariances.
+pub struct CovarianceMap {
+    voxel_size: f64,
+    max_distance: f64,
+    max_points_per_voxel: usize,
+    map: VoxelMap<Block>,
+    len: usize,
+}
+
+impl CovarianceMap {
+    pub fn new(voxel_size: f64, max_distance: f64, max_points_per_voxel: usize) -> Self {
+        Self {
+            voxel_size,
+            max_distance,
+            max_points_per_voxel,
+            map: VoxelMap::default(),
+            len: 0,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Every point, world frame (voxels in key order, so the order does not depend on the
+    /// hash).
+    pub fn points(&self) -> Vec<Point3<f64>> {
+        let mut keys: Vec<_> = self.map.keys().copied().collect();
+        keys.sort_unstable();
+        keys.iter()
+            .flat_map(|k| self.map[k].points.iter().map(|(p, _, _)| *p))
+            .collect()
+    }
+
+    /// Adds `points` (sensor frame) with their `covariances` (sensor frame) seen from `pose`,
+    /// then drops the voxels beyond the range from the sensor.
+    pub fn update(
+        &mut self,
+        points: &[Point3<f64>],
+        covariances: &[Matrix3<f64>],
+        pose: &Isometry3<f64>,
+    ) {
+        let r = pose.rotation.to_rotation_matrix().into_inner();
+        let resolution2 = self.voxel_size * self.voxel_size / self.max_points_per_voxel as f64;
+        for (p, c) in points.iter().zip(covariances) {
+            let w = pose * p;
+            let block = self.map.entry(voxel_of(&w, self.voxel_size)).or_default();
+            if block.points.len() >= self.max_points_per_voxel
+                || block
+                    .points
+                    .iter()
+                    .any(|(q, _, _)| (q - w).norm_squared() < resolution2)
+            {
+                continue;
+            }
+            let cw = r * c * r.transpose();
+            block.points.push((w, cw, normal(&cw)));
+            self.len += 1;
+        }
+        let (origin, max2) = (pose.translation.vector, self.max_distance.powi(2));
+        let mut removed = 0;
+        self.map.retain(|_, b| {
+            let keep = b
+                .points
+                .first()
+                .is_some_and(|(p, _, _)| (p.coords - origin).norm_squared() < max2);
+            if !keep {
+                removed += b.points.len();
+            }
+            keep
+        });
+        self.len -= removed;
+    }
+}
+
+impl Target for CovarianceMap {
+    /// The nearest map point among the 27 voxels around `q` (a pair farther than one voxel
+    /// may be missed, as in KISS-ICP).
+    fn nearest(&self, q: &Point3<f64>, max_d2: f64) -> Option<Neighbour> {
+        let v = voxel_of(q, self.voxel_size);
+        let mut best: Option<(f64, &Entry)> = None;
+        for d in NEIGHBOURS {
+            let key = [v[0] + d[0], v[1] + d[1], v[2] + d[2]];
+            let Some(block) = self.map.get(&key) else {
+                continue;
+            };
+            for entry in &block.points {
+                let d2 = (entry.0 - q).norm_squared();
+                if d2 < max_d2 && best.is_none_or(|(b, _)| d2 < b) {
+                    best = Some((d2, entry));
+                }
+            }
+        }
+        best.map(|(_, &(point, covariance, normal))| Neighbour {
+            point,
+            covariance,
+            normal,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kiss_icp::voxel_map::VoxelHashMap;
+    use crate::test_scenes::room;
+
+    /// The same points and nearest neighbours as KISS-ICP's voxel map.
+    #[test]
+    fn holds_and_finds_what_kiss_icps_map_does() {
+        let pts = room();
+        let pose = Isometry3::translation(0.3, -0.2, 0.1);
+        let covs = vec![Matrix3::identity(); pts.len()];
+        let mut ours = CovarianceMap::new(0.3, 100.0, 20);
+        ours.update(&pts, &covs, &pose);
+        let mut kiss = VoxelHashMap::new(0.3, 100.0, 20);
+        kiss.update(&pts, &pose);
+        assert_eq!(ours.len(), kiss.len());
+        let mut s = 9u64;
+        for _ in 0..500 {
+            let q = Point3::new(
+                crate::test_scenes::rnd(&mut s) * 10.0 - 5.0,
+                crate::test_scenes::rnd(&mut s) * 8.0 - 4.0,
+                crate::test_scenes::rnd(&mut s) * 3.0 - 1.0,
+            );
+            let a = ours.nearest(&q, 0.25).map(|n| n.point);
+            let b = kiss
+                .closest_neighbour_within(&q, 0.5)
+                .filter(|(_, d)| d * d < 0.25)
+                .map(|(p, _)| p);
+            assert_eq!(a, b, "{q}");
+        }
+    }
+}
