@@ -26,6 +26,8 @@ pub struct Errors {
     pub localised: Vec<f64>,
     pub odometry: Vec<f64>,
     pub tracking: Vec<bool>,
+    /// The localiser's fitness per frame.
+    pub fitness: Vec<f64>,
     pub rates_hz: (f64, f64),
 }
 
@@ -66,6 +68,7 @@ pub fn run(
         localised: Vec::new(),
         odometry: Vec::new(),
         tracking: Vec::new(),
+        fitness: Vec::new(),
         rates_hz: (0.0, 0.0),
     };
     let (mut loc_s, mut odo_s) = (0.0, 0.0);
@@ -85,6 +88,7 @@ pub fn run(
         e.odometry
             .push((o.pose.translation.vector - o_true.translation.vector).norm());
         e.tracking.push(l.tracking);
+        e.fitness.push(l.fitness);
     }
     e.rates_hz = (frames as f64 / loc_s, frames as f64 / odo_s);
     Ok(e)

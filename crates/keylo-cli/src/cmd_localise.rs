@@ -48,6 +48,14 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         &args.sets,
     )?;
     let settings = LocaliseConfig::from_table(&config.localise, &config.origin)?;
+    if !settings.map.is_empty() && std::path::Path::new(&settings.map) != args.map {
+        tracing::warn!(
+            "{}: localise.map = \"{}\" is not used: the map is the command line's {}",
+            config.origin,
+            settings.map,
+            args.map.display()
+        );
+    }
     let given = match (&args.initial_pose, settings.initial_pose.as_slice()) {
         (Some(text), _) => Some(pose_of_text(text).map_err(|e| anyhow!("--initial-pose {e}"))?),
         (None, []) => None,

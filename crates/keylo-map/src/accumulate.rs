@@ -82,16 +82,27 @@ pub(crate) fn to_bytes(voxels: &Voxels) -> Vec<u8> {
 /// The voxels of [`to_bytes`]' output, or of several such outputs one after the other (the
 /// parts of a tile written at different times): records of the same voxel are merged. `Err`
 /// says why the bytes are not a tile.
+#[cfg(test)]
 pub(crate) fn from_bytes(bytes: &[u8]) -> Result<Voxels, String> {
-    if !bytes.len().is_multiple_of(RECORD) {
-        return Err(format!(
-            "{} bytes is not a whole number of {RECORD}-byte voxel records",
-            bytes.len()
-        ));
-    }
+    from_reader(bytes).map_err(|e| e.to_string())
+}
+
+/// [`from_bytes`] reading record by record, so memory holds the tile's voxels, not its file
+/// (whose parts may repeat voxels many times). The error says why the bytes are not a tile.
+pub(crate) fn from_reader(mut reader: impl std::io::Read) -> std::io::Result<Voxels> {
     let mut voxels = Voxels::default();
-    voxels.reserve(bytes.len() / RECORD);
-    for r in bytes.chunks_exact(RECORD) {
+    let mut r = [0u8; RECORD];
+    loop {
+        match read_record(&mut reader, &mut r)? {
+            0 => break,
+            RECORD => {}
+            n => return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!(
+                    "a last record of {n} bytes: not a whole number of {RECORD}-byte voxel records"
+                ),
+            )),
+        }
         let i32_at = |o: usize| i32::from_le_bytes([r[o], r[o + 1], r[o + 2], r[o + 3]]);
         let f64_at = |o: usize| {
             let mut b = [0u8; 8];
@@ -108,6 +119,20 @@ pub(crate) fn from_bytes(bytes: &[u8]) -> Result<Voxels, String> {
         voxels.entry(key).and_modify(|m| m.merge(&v)).or_insert(v);
     }
     Ok(voxels)
+}
+
+/// Fills `r` from `reader` as far as it can: the bytes read (0 at the end).
+fn read_record(reader: &mut impl std::io::Read, r: &mut [u8; RECORD]) -> std::io::Result<usize> {
+    let mut filled = 0;
+    while filled < RECORD {
+        match reader.read(&mut r[filled..]) {
+            Ok(0) => break,
+            Ok(n) => filled += n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(filled)
 }
 
 #[cfg(test)]
@@ -140,5 +165,6 @@ mod tests {
         assert!(from_bytes(&bytes[1..])
             .unwrap_err()
             .contains("whole number"));
+        assert!(from_bytes(&[]).unwrap().is_empty());
     }
 }

@@ -14,6 +14,7 @@ impl Ros2Node {
             Command::Reset => match odometry.reset() {
                 Ok(()) => {
                     self.previous = None;
+                    self.last_registered = None;
                     self.last_raw_base = None;
                     self.last_lidar = None;
                     self.anchor = Isometry3::identity();
@@ -75,6 +76,8 @@ impl Ros2Node {
             Ok(()) => {
                 self.anchor = Isometry3::identity();
                 self.last_raw_base = Some(base);
+                // The pose set is the pose now: a motion since the last scan is not added.
+                self.pending_prior = false;
                 self.previous = self.previous.map(|(_, t)| (base, t));
                 self.stats.poses_set += 1;
                 tracing::info!("ros2: pose set: the localiser starts again from it");
@@ -88,7 +91,7 @@ impl Ros2Node {
         if !self.pending_prior {
             return;
         }
-        let Some((_, t0)) = self.previous else {
+        let Some(t0) = self.last_registered else {
             return;
         };
         let Some(base_motion) = self.prior.motion(t0, frame.end_stamp()) else {

@@ -30,7 +30,8 @@ pub struct NodeStats {
     pub clouds_refused: u64,
     /// Input messages that did not decode as their type.
     pub messages_undecodable: u64,
-    /// Frames registered and published.
+    /// Frames registered (published, or, for a localiser not tracking, logged and counted in
+    /// `frames_not_tracking`).
     pub frames: u64,
     /// Localisation in a prior map (`[registrar] kind = "localise"`): registered frames that
     /// were not tracking, so nothing was published for them (no odometry, TF or path: a pose
@@ -45,7 +46,8 @@ pub struct NodeStats {
     pub poses_set: u64,
 }
 
-/// One registered frame, as the node published it.
+/// One registered frame, as the node published it (a localiser's frame that was not tracking
+/// comes here too, with nothing published).
 pub struct Published<'a> {
     pub result: &'a FrameResult,
     /// The frame registered (sensor frame, as the cloud made it).
@@ -93,6 +95,9 @@ pub struct Ros2Node {
     pub(crate) cloud_frame: Option<String>,
     /// The previous frame's published base pose and end stamp (s).
     pub(crate) previous: Option<(Isometry3<f64>, f64)>,
+    /// The end stamp (s) of the last frame the registrar registered, published or not (a
+    /// localiser's frame that was not tracking): where the next motion prior starts.
+    pub(crate) last_registered: Option<f64>,
     /// The last frame's base pose before `anchor` (keylo's own, from the first scan).
     pub(crate) last_raw_base: Option<Isometry3<f64>>,
     /// Set by set-pose: published pose = anchor · keylo's base pose.
@@ -171,6 +176,7 @@ impl Ros2Node {
             prior: PriorTrack::default(),
             cloud_frame: None,
             previous: None,
+            last_registered: None,
             last_raw_base: None,
             anchor: Isometry3::identity(),
             next_index: 0,
@@ -328,6 +334,7 @@ impl Ros2Node {
         cloud_frame: &str,
         stamp_ns: i64,
     ) {
+        self.last_registered = Some(r.stamp);
         if let Some(fit) = r.fit.filter(|f| !f.tracking) {
             self.stats.frames_not_tracking += 1;
             tracing::warn!(

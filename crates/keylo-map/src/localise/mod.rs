@@ -202,16 +202,23 @@ impl Localiser {
             r > min && r < max
         });
         let guess = if first { self.pose } else { self.pose * delta };
-        let (source, pose, iterations, converged) = self.register(&points, &guess, first);
+        // A frame that starts from a given pose (the first, the first after `set_pose`) does
+        // not teach the motion model or the threshold: its correction is the given pose's
+        // error, not motion.
+        let from_given = first || self.given;
+        let (source, pose, iterations, converged) = self.register(&points, &guess);
         self.given = false;
         let fitness = self.fitness(&source, &pose);
-        let tracking = fitness >= self.config.min_fitness;
-        if let (Engine::Icp { threshold, .. }, true, false) = (&mut self.engine, tracking, first) {
+        let tracking = !source.is_empty() && fitness >= self.config.min_fitness;
+        if let (Engine::Icp { threshold, .. }, true, false) =
+            (&mut self.engine, tracking, from_given)
+        {
             threshold.update(&(guess.inverse() * pose));
         }
-        if !first {
-            self.delta = self.pose.inverse() * pose;
-        }
+        self.delta = match from_given {
+            true => Pose::identity(),
+            false => self.pose.inverse() * pose,
+        };
         self.pose = pose;
         self.frames += 1;
         Localised {
@@ -230,7 +237,6 @@ impl Localiser {
         &mut self,
         points: &[Point3<f64>],
         guess: &Pose,
-        first: bool,
     ) -> (Vec<Point3<f64>>, Pose, usize, bool) {
         match &mut self.engine {
             Engine::Icp { threshold, scratch } => {
@@ -273,10 +279,10 @@ impl Localiser {
                         r.converged,
                     ),
                     Err(e) => {
-                        if !first {
-                            tracing::debug!("localise: NDT did not start: {e}");
-                        }
-                        (source, *guess, 0, false)
+                        // Not even the fine grid's neighbourhood is reached: the coarse
+                        // step's pose is no better than the guess, which is kept.
+                        tracing::debug!("localise: NDT did not start: {e}");
+                        (source, *guess, coarse_iterations, false)
                     }
                 }
             }

@@ -90,6 +90,7 @@ impl Registrar for LocaliseRegistrar {
     }
 
     fn set_motion_prior(&mut self, delta: &Pose) -> Result<(), CoreError> {
+        keylo_core::rigid::check_rigid(delta, "motion prior")?;
         self.localiser.set_motion_prior(*delta);
         Ok(())
     }
@@ -103,6 +104,7 @@ impl Registrar for LocaliseRegistrar {
     /// The relocalisation hook: the last frame's pose becomes `pose`; unlike odometry the
     /// motion model is forgotten too (it may have been learnt while lost).
     fn set_pose(&mut self, pose: &Pose) -> Result<(), CoreError> {
+        keylo_core::rigid::check_rigid(pose, "pose")?;
         self.localiser.set_pose(*pose);
         Ok(())
     }
