@@ -72,7 +72,7 @@ pub struct GicpConfig {
     /// false: `max_correspondence_distance`.
     pub adaptive_threshold: bool,
     /// Local map: pairs are down-weighted by KISS-ICP's robust kernel (Geman–McClure, scale
-    /// σ/3 of the adaptive threshold, or `max_correspondence_distance`/3), as KISS-ICP's ICP;
+    /// σ of the adaptive threshold, or `max_correspondence_distance`/3), as KISS-ICP's ICP;
     /// false: every pair counts fully, as PCL.
     pub robust_kernel: bool,
     /// Local map: the adaptive threshold's start σ₀, m.
