@@ -145,7 +145,7 @@ impl Gicp {
             return Ok(Outcome::first(self.last_pose, n));
         }
         let guess = self.last_pose * delta;
-        // KISS-ICP.s: pairs within 3σ, kernel σ.
+        // KISS-ICP's: pairs within 3σ, kernel σ.
         let max_distance = match c.adaptive_threshold {
             true => 3.0 * self.threshold.threshold(),
             false => c.max_correspondence_distance,
