@@ -96,12 +96,14 @@ pub(crate) fn from_reader(mut reader: impl std::io::Read) -> std::io::Result<Vox
         match read_record(&mut reader, &mut r)? {
             0 => break,
             RECORD => {}
-            n => return Err(std::io::Error::new(
-                std::io::ErrorKind::InvalidData,
-                format!(
+            n => {
+                return Err(std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    format!(
                     "a last record of {n} bytes: not a whole number of {RECORD}-byte voxel records"
                 ),
-            )),
+                ))
+            }
         }
         let i32_at = |o: usize| i32::from_le_bytes([r[o], r[o + 1], r[o + 2], r[o + 3]]);
         let f64_at = |o: usize| {
