@@ -13,7 +13,7 @@
 //! clouds and the alignment (what PCL's `align` does); in `seq`, as keylo's frame-to-frame
 //! registrar, the previous frame's covariances are reused as the target's.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use keylo_registration::gicp::{align, Cost, GicpCloud, GicpSettings};
@@ -21,7 +21,7 @@ use nalgebra::Isometry3;
 
 #[path = "common/clouds.rs"]
 mod clouds;
-use clouds::{filtered, load, pose_line};
+use clouds::{filtered, frame_files, load, pose_line};
 
 struct Opts {
     settings: GicpSettings,
@@ -103,12 +103,7 @@ fn main() -> Result<(), String> {
         println!("iterations {} ms {ms:.3}", r.iterations);
         return Ok(());
     }
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&args[1])
-        .map_err(|e| format!("{}: {e}", args[1]))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "bin" || e == "ply"))
-        .collect();
-    files.sort();
+    let files = frame_files(&args[1])?;
     let mut out = vec![pose_line(0.0, &Isometry3::identity())];
     let (mut pose, mut vel) = (Isometry3::identity(), Isometry3::identity());
     let mut prev = prepare(cloud(files.first().ok_or("no frames")?, &o)?)?;

@@ -13,7 +13,7 @@
 //! Clouds: KITTI `.bin` (float32 x y z i) or binary little-endian `.ply` with float
 //! properties, x y z first. Time is for building the target and aligning (as PCL's).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use keylo_registration::ndt::{align, AlignSettings, GridSettings, NdtTarget, NeighbourSearch};
@@ -21,7 +21,7 @@ use nalgebra::{Isometry3, Point3};
 
 #[path = "common/clouds.rs"]
 mod clouds;
-use clouds::{filtered, load, pose_line};
+use clouds::{filtered, frame_files, load, pose_line};
 
 struct Opts {
     grid: GridSettings,
@@ -115,12 +115,7 @@ fn main() -> Result<(), String> {
         println!("iterations {it} ms {ms:.3}");
         return Ok(());
     }
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&args[1])
-        .map_err(|e| format!("{}: {e}", args[1]))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "bin" || e == "ply"))
-        .collect();
-    files.sort();
+    let files = frame_files(&args[1])?;
     let mut out = vec![pose_line(0.0, &Isometry3::identity())];
     let (mut pose, mut vel) = (Isometry3::identity(), Isometry3::identity());
     let mut prev = load(files.first().ok_or("no frames")?)?;

@@ -145,3 +145,21 @@ pub(crate) fn check_prior(delta: &Isometry3<f64>, bound: f64) -> Result<(), Core
     }
     Ok(())
 }
+
+/// The divergence guard of a registrar named `who`: an error when `pose` moved a non-finite
+/// distance, or more than `bound` (m; 0: no bound) from `last`.
+pub(crate) fn check_motion(
+    who: &str,
+    last: &Isometry3<f64>,
+    pose: &Isometry3<f64>,
+    bound: f64,
+) -> Result<(), RegistrationError> {
+    let step = (last.inverse() * pose).translation.vector.norm();
+    if !step.is_finite() || (bound > 0.0 && step > bound) {
+        return Err(RegistrationError::Diverged(format!(
+            "{who} diverged: the pose moved {step:.3} m in one frame (bound \
+             `max_motion_per_frame` = {bound} m)"
+        )));
+    }
+    Ok(())
+}

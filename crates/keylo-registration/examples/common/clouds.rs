@@ -53,3 +53,14 @@ pub fn pose_line(t: f64, p: &Isometry3<f64>) -> String {
         v.x, v.y, v.z, q.x, q.y, q.z, q.w
     )
 }
+
+/// The `.bin` and `.ply` clouds of `dir`, sorted by name (the sequence's order).
+pub fn frame_files(dir: &str) -> Result<Vec<std::path::PathBuf>, String> {
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| format!("{dir}: {e}"))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "bin" || e == "ply"))
+        .collect();
+    files.sort();
+    Ok(files)
+}

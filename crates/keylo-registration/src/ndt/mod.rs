@@ -94,15 +94,12 @@ impl Ndt {
 
     /// Rejects a non-finite pose or one that jumped beyond `max_motion_per_frame`.
     fn check_divergence(&self, pose: &Isometry3<f64>) -> Result<(), RegistrationError> {
-        let step = (self.last_pose.inverse() * pose).translation.vector.norm();
-        let bound = self.config.max_motion_per_frame;
-        if !step.is_finite() || (bound > 0.0 && step > bound) {
-            return Err(RegistrationError::Diverged(format!(
-                "NDT diverged: the pose moved {step:.3} m in one frame (bound \
-                 `max_motion_per_frame` = {bound} m)"
-            )));
-        }
-        Ok(())
+        frame_step::check_motion(
+            "NDT",
+            &self.last_pose,
+            pose,
+            self.config.max_motion_per_frame,
+        )
     }
 
     fn register_points(
