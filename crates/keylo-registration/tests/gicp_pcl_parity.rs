@@ -2,26 +2,12 @@
 //! (`tests/fixtures/gicp/pcl_golden.txt`, made by PCL; see its README): within 5 mm and 0.1°
 //! on the simulated lab and road pairs, where PCL's own result is stable.
 
-use std::path::{Path, PathBuf};
-
 use keylo_registration::gicp::{align, GicpCloud, GicpSettings};
-use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion};
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 
-fn fixtures() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures")
-}
+mod common;
 
-/// A KITTI `.bin` cloud (float32 x y z i).
-fn load(path: &Path) -> Vec<Point3<f64>> {
-    let bytes = std::fs::read(path).unwrap();
-    bytes
-        .chunks_exact(16)
-        .map(|c| {
-            let f = |i: usize| f64::from(f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]));
-            Point3::new(f(0), f(4), f(8))
-        })
-        .collect()
-}
+use common::{fixtures, load_bin as load};
 
 fn golden(case: &str) -> Isometry3<f64> {
     let text = std::fs::read_to_string(fixtures().join("gicp/pcl_golden.txt")).unwrap();

@@ -2,24 +2,19 @@
 //! (real outdoor scans and simulated frames; `tests/fixtures/ndt/README.md` says how each was
 //! made): the same pose within 1 cm / 0.1° and the same iteration count (± 1).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use keylo_registration::ndt::{align, AlignSettings, GridSettings, NdtTarget, NeighbourSearch};
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 
+mod common;
+
 fn fixtures() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/ndt")
+    common::fixtures().join("ndt")
 }
 
 fn load(name: &str) -> Vec<Point3<f64>> {
-    let bytes = std::fs::read(fixtures().join(name)).unwrap();
-    bytes
-        .chunks_exact(16)
-        .map(|c| {
-            let f = |i: usize| f64::from(f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]));
-            Point3::new(f(0), f(4), f(8))
-        })
-        .collect()
+    common::load_bin(&fixtures().join(name))
 }
 
 /// The known transform of the real pair (`small_gicp_T_target_source.txt`).
