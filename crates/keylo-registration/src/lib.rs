@@ -6,7 +6,7 @@
 //! - [`ndt`]: NDT (Magnusson's point-to-distribution, PCL's `NormalDistributionsTransform`
 //!   semantics and defaults) in a keyframe local-map odometry like simple_ndt_slam.
 //! - [`gicp`]: Generalized ICP (PCL's semantics) and point-to-plane ICP, frame to frame or
-//!   against a local map of points with covariances (in progress, not yet a registrar kind).
+//!   against a local map of points with covariances.
 //! - [`hybrid`]: KISS-ICP's cloud terms off the weak directions of the geometry plus
 //!   keypoint matches of consecutive frames, each step a Clarabel cone program.
 //! - [`degeneracy`]: eigen-analysis of the normal equations (weak directions).
@@ -38,10 +38,10 @@ pub use ndt::{Ndt, NdtConfig};
 keylo_core::stage_params!(KissIcpConfig => "kiss-icp" as RegistrarParams);
 keylo_core::stage_params!(HybridConfig => "hybrid" as RegistrarParams);
 keylo_core::stage_params!(NdtConfig => "ndt" as RegistrarParams);
+keylo_core::stage_params!(GicpConfig => "gicp" as RegistrarParams);
 
-/// Registers this crate's backends: registrars `kiss-icp`, `hybrid`, `ndt`; downsamplers `passthrough`, `voxel`.
-/// (`gicp` is not registered yet: its local-map mode is unstable on the simulated scenes,
-/// issue 47.)
+/// Registers this crate's backends: registrars `kiss-icp`, `hybrid`, `ndt`, `gicp`;
+/// downsamplers `passthrough`, `voxel`.
 pub fn register(registry: &mut keylo_core::Registry) {
     registry.registrars.add::<KissIcpConfig>(
         KissIcpConfig::KIND,
@@ -57,6 +57,11 @@ pub fn register(registry: &mut keylo_core::Registry) {
         NdtConfig::KIND,
         "NDT (PCL NormalDistributionsTransform semantics) against a local map of recent keyframes",
         |config, _ctx| Ok(Box::new(Ndt::new(config)?)),
+    );
+    registry.registrars.add::<GicpConfig>(
+        GicpConfig::KIND,
+        "Generalized ICP (PCL GeneralizedIterativeClosestPoint semantics) or point-to-plane ICP, against a KISS-ICP-style local map or the previous scan",
+        |config, _ctx| Ok(Box::new(Gicp::new(config)?)),
     );
     downsample::register(registry);
 }

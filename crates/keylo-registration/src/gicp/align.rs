@@ -207,7 +207,8 @@ pub fn align(
             break;
         }
     }
-    let pose = rel * guess;
+    let mut pose = rel * guess;
+    pose.rotation.renormalize();
     if !pose.translation.vector.iter().all(|v| v.is_finite()) {
         return Err(RegistrationError::Diverged(
             "GICP produced a non-finite pose".into(),

@@ -108,7 +108,8 @@ impl Gicp {
             delta,
             &settings,
         )?;
-        let pose = self.last_pose * r.pose;
+        let mut pose = self.last_pose * r.pose;
+        pose.rotation.renormalize();
         self.check_divergence(&pose)?;
         let degeneracy = self.analyse(&r, &self.last_pose);
         self.reference = Reference::Previous(Some(current));
@@ -162,6 +163,7 @@ impl Gicp {
         };
         map.update(&dense.points, &map_covariances, &r.pose);
         self.last_delta = self.last_pose.inverse() * r.pose;
+        self.last_delta.rotation.renormalize();
         self.last_pose = r.pose;
         Ok(Outcome::of(&r, r.pose, n, degeneracy))
     }

@@ -46,6 +46,10 @@ pub fn minimise(pairs: &[Pair], start: &Isometry3<f64>, kernel: Option<f64>) -> 
             break;
         }
         t = se3::exp(&step) * t;
+        // Products of unit quaternions drift off unit length by rounding; the odometry's
+        // `last⁻¹ · pose` (a conjugate, exact only for unit length) would amplify the drift
+        // about 2.4× a frame until the poses shear (issue 47).
+        t.rotation.renormalize();
         if step.norm() < STEP_TOLERANCE {
             break;
         }
