@@ -92,7 +92,7 @@ fn main() -> Result<(), String> {
         let t0 = Instant::now();
         let (source, target) = (prepare(src)?, prepare(tgt)?);
         let r = align(
-            (&source.cloud.points, &source.covariances),
+            (&source.cloud.points, &source.patches),
             &target,
             &Isometry3::identity(),
             &o.settings,
@@ -113,7 +113,7 @@ fn main() -> Result<(), String> {
         let t0 = Instant::now();
         let cur = prepare(points)?;
         let r = align(
-            (&cur.cloud.points, &cur.covariances),
+            (&cur.cloud.points, &cur.patches),
             &prev,
             &vel,
             &o.settings,

@@ -33,7 +33,7 @@ fn gicp_equals_pcl_on_the_stable_pairs() {
         let target =
             GicpCloud::new(load(&dir.join(format!("{case}_target.bin"))), 20, 1e-3).unwrap();
         let r = align(
-            (&source.cloud.points, &source.covariances),
+            (&source.cloud.points, &source.patches),
             &target,
             &Isometry3::identity(),
             &GicpSettings::default(),

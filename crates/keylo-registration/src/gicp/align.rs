@@ -8,7 +8,7 @@
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
-use super::covariances::Indexed;
+use super::covariances::{patches, Indexed, Patch};
 use super::solve::{minimise, Pair};
 use crate::RegistrationError;
 
@@ -57,12 +57,11 @@ pub enum Cost {
     PointToPlane,
 }
 
-/// A cloud ready to be a GICP target or source: its points, tree and covariances.
+/// A cloud ready to be a GICP target or source: its points, tree and patches (covariance and
+/// normal of each point).
 pub struct GicpCloud {
     pub cloud: Indexed,
-    pub covariances: Vec<Matrix3<f64>>,
-    /// Unit normals (smallest covariance direction), for point-to-plane.
-    pub normals: Vec<Vector3<f64>>,
+    pub patches: Vec<Patch>,
 }
 
 impl GicpCloud {
@@ -74,13 +73,8 @@ impl GicpCloud {
     ) -> Result<Self, RegistrationError> {
         check_size(points.len())?;
         let cloud = Indexed::new(points)?;
-        let covariances = super::covariances::covariances(&cloud, k, epsilon);
-        let normals = covariances.iter().map(super::covariances::normal).collect();
-        Ok(Self {
-            cloud,
-            covariances,
-            normals,
-        })
+        let patches = patches(&cloud, k, epsilon);
+        Ok(Self { cloud, patches })
     }
 
     pub fn len(&self) -> usize {
@@ -124,8 +118,8 @@ impl Target for GicpCloud {
         let (j, d2) = self.cloud.nearest(q);
         (d2 < max_d2).then(|| Neighbour {
             point: self.cloud.points[j],
-            covariance: self.covariances[j],
-            normal: self.normals[j],
+            covariance: self.patches[j].covariance,
+            normal: self.patches[j].normal,
         })
     }
 }
@@ -143,10 +137,10 @@ pub struct GicpResult {
     pub pairs: Vec<Pair>,
 }
 
-/// Aligns `source` (points and their covariances, source frame) to `target` from `guess`,
+/// Aligns `source` (points and their patches, source frame) to `target` from `guess`,
 /// as PCL's `align(output, guess)`.
 pub fn align(
-    (points, covariances): (&[Point3<f64>], &[Matrix3<f64>]),
+    (points, patches): (&[Point3<f64>], &[Patch]),
     target: &impl Target,
     guess: &Isometry3<f64>,
     settings: &GicpSettings,
@@ -174,7 +168,7 @@ pub fn align(
                 let n = target.nearest(&(rel * p), max_d2)?;
                 let weight = match settings.cost {
                     Cost::Gicp => {
-                        let c = rotation * covariances[i] * rotation.transpose() + n.covariance;
+                        let c = rotation * patches[i].covariance * rotation.transpose() + n.covariance;
                         c.try_inverse()?
                     }
                     Cost::PointToPlane => n.normal * n.normal.transpose(),

@@ -38,21 +38,38 @@ impl Indexed {
     }
 }
 
-/// The regularised covariance of every point of `cloud` from its `k` nearest neighbours
-/// (itself included, as PCL's `nearestKSearch`), eigenvalues set to (1, 1, `epsilon`).
-/// With fewer than `k` points in the cloud, all of them are the neighbours.
-pub fn covariances(cloud: &Indexed, k: usize, epsilon: f64) -> Vec<Matrix3<f64>> {
-    covariances_at(cloud, &cloud.points, k, epsilon)
+/// A point's regularised covariance and its normal (the covariance's thinnest direction).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Patch {
+    pub covariance: Matrix3<f64>,
+    pub normal: Vector3<f64>,
 }
 
-/// [`covariances`] at `queries`, each from its `k` nearest points of `cloud` (a sparse cloud's
+impl Patch {
+    /// The patch in a frame rotated by `r` (a rotation matrix).
+    pub fn rotated(&self, r: &Matrix3<f64>) -> Self {
+        Self {
+            covariance: r * self.covariance * r.transpose(),
+            normal: r * self.normal,
+        }
+    }
+}
+
+/// The patch of every point of `cloud` from its `k` nearest neighbours (itself included, as
+/// PCL's `nearestKSearch`), eigenvalues set to (1, 1, `epsilon`). With fewer than `k` points
+/// in the cloud, all of them are the neighbours.
+pub fn patches(cloud: &Indexed, k: usize, epsilon: f64) -> Vec<Patch> {
+    patches_at(cloud, &cloud.points, k, epsilon)
+}
+
+/// [`patches`] at `queries`, each from its `k` nearest points of `cloud` (a sparse cloud's
 /// points get their patches from a denser one).
-pub fn covariances_at(
+pub fn patches_at(
     cloud: &Indexed,
     queries: &[Point3<f64>],
     k: usize,
     epsilon: f64,
-) -> Vec<Matrix3<f64>> {
+) -> Vec<Patch> {
     let k = k.min(cloud.points.len()).max(1);
     let n = NonZero::new(k).unwrap_or(NonZero::<usize>::MIN);
     queries
@@ -80,23 +97,14 @@ pub fn covariances_at(
 }
 
 /// The covariance with its eigenvectors and eigenvalues (1, 1, `epsilon`), the smallest
-/// eigenvalue's direction (the patch's normal) getting `epsilon`.
-pub fn regularise(cov: &Matrix3<f64>, epsilon: f64) -> Matrix3<f64> {
+/// eigenvalue's direction (the patch's normal) getting `epsilon`: `I − (1 − ε) n nᵀ`.
+pub fn regularise(cov: &Matrix3<f64>, epsilon: f64) -> Patch {
     let eig = SymmetricEigen::new(*cov);
-    let smallest = eig.eigenvalues.imin();
-    let mut out = Matrix3::zeros();
-    for i in 0..3 {
-        let v = eig.eigenvectors.column(i);
-        let w = if i == smallest { epsilon } else { 1.0 };
-        out += w * v * v.transpose();
+    let normal = eig.eigenvectors.column(eig.eigenvalues.imin()).into_owned();
+    Patch {
+        covariance: Matrix3::identity() - (1.0 - epsilon) * normal * normal.transpose(),
+        normal,
     }
-    out
-}
-
-/// The unit direction a regularised covariance is thinnest along (the patch's normal).
-pub fn normal(cov: &Matrix3<f64>) -> Vector3<f64> {
-    let eig = SymmetricEigen::new(*cov);
-    eig.eigenvectors.column(eig.eigenvalues.imin()).into_owned()
 }
 
 #[cfg(test)]
@@ -113,9 +121,11 @@ mod tests {
             })
             .collect();
         let cloud = Indexed::new(pts).unwrap();
-        let covs = covariances(&cloud, 20, 1e-3);
+        let patches = patches(&cloud, 20, 1e-3);
         let normal = Vector3::new(-0.5, 0.0, 1.0).normalize();
-        for c in covs.iter().step_by(37) {
+        for p in patches.iter().step_by(37) {
+            let c = &p.covariance;
+            assert!((p.normal.dot(&normal).abs() - 1.0).abs() < 1e-9);
             assert!(((normal.transpose() * c * normal)[0] - 1e-3).abs() < 1e-9);
             let along = Vector3::new(1.0, 0.0, 0.5).normalize();
             assert!(((along.transpose() * c * along)[0] - 1.0).abs() < 1e-9);

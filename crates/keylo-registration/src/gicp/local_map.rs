@@ -2,17 +2,18 @@
 //! spaced by `voxel_size / √max_points`, voxels beyond `max_range` from the sensor dropped),
 //! each point with its covariance in the world frame — computed once, from the frame that
 //! brought it, and rotated with that frame's pose (small_gicp's incremental map does the
-//! same), so no frame recomputes the map's covariances.
+//! same), so no frame recomputes the map's covariances; and computed only for the points the
+//! map admits (most of a frame's points land in full voxels).
 
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 
 use super::align::{Neighbour, Target};
-use super::covariances::normal;
+use super::covariances::Patch;
 use crate::kiss_icp::voxel_map::NEIGHBOURS;
 use crate::voxel::{voxel_of, VoxelMap};
 
-/// A map point with its covariance and normal (world frame).
-type Entry = (Point3<f64>, Matrix3<f64>, Vector3<f64>);
+/// A map point with its patch (world frame).
+type Entry = (Point3<f64>, Patch);
 
 /// A voxel's points.
 #[derive(Default)]
@@ -54,42 +55,57 @@ impl CovarianceMap {
         let mut keys: Vec<_> = self.map.keys().copied().collect();
         keys.sort_unstable();
         keys.iter()
-            .flat_map(|k| self.map[k].points.iter().map(|(p, _, _)| *p))
+            .flat_map(|k| self.map[k].points.iter().map(|(p, _)| *p))
             .collect()
     }
 
-    /// Adds `points` (sensor frame) with their `covariances` (sensor frame) seen from `pose`,
-    /// then drops the voxels beyond the range from the sensor.
+    /// Adds the `points` (sensor frame) seen from `pose` that the map admits (KISS-ICP's
+    /// rule: a voxel not full, no point of it closer than `voxel_size / √max_points`), each
+    /// with the patch `patches_of` gives for it (called once with the admitted points'
+    /// indices into `points`, sensor frame); then drops the voxels beyond the range from the
+    /// sensor.
     pub fn update(
         &mut self,
         points: &[Point3<f64>],
-        covariances: &[Matrix3<f64>],
         pose: &Isometry3<f64>,
+        patches_of: impl FnOnce(&[usize]) -> Vec<Patch>,
     ) {
-        let r = pose.rotation.to_rotation_matrix().into_inner();
         let resolution2 = self.voxel_size * self.voxel_size / self.max_points_per_voxel as f64;
-        for (p, c) in points.iter().zip(covariances) {
+        let placeholder = Patch {
+            covariance: Matrix3::zeros(),
+            normal: Vector3::zeros(),
+        };
+        let (mut admitted, mut slots) = (Vec::new(), Vec::new());
+        for (i, p) in points.iter().enumerate() {
             let w = pose * p;
-            let block = self.map.entry(voxel_of(&w, self.voxel_size)).or_default();
+            let key = voxel_of(&w, self.voxel_size);
+            let block = self.map.entry(key).or_default();
             if block.points.len() >= self.max_points_per_voxel
                 || block
                     .points
                     .iter()
-                    .any(|(q, _, _)| (q - w).norm_squared() < resolution2)
+                    .any(|(q, _)| (q - w).norm_squared() < resolution2)
             {
                 continue;
             }
-            let cw = r * c * r.transpose();
-            block.points.push((w, cw, normal(&cw)));
-            self.len += 1;
+            slots.push((key, block.points.len()));
+            block.points.push((w, placeholder));
+            admitted.push(i);
         }
+        let r = pose.rotation.to_rotation_matrix().into_inner();
+        for ((key, slot), patch) in slots.iter().zip(patches_of(&admitted)) {
+            if let Some(entry) = self.map.get_mut(key).and_then(|b| b.points.get_mut(*slot)) {
+                entry.1 = patch.rotated(&r);
+            }
+        }
+        self.len += admitted.len();
         let (origin, max2) = (pose.translation.vector, self.max_distance.powi(2));
         let mut removed = 0;
         self.map.retain(|_, b| {
             let keep = b
                 .points
                 .first()
-                .is_some_and(|(p, _, _)| (p.coords - origin).norm_squared() < max2);
+                .is_some_and(|(p, _)| (p.coords - origin).norm_squared() < max2);
             if !keep {
                 removed += b.points.len();
             }
@@ -117,10 +133,10 @@ impl Target for CovarianceMap {
                 }
             }
         }
-        best.map(|(_, &(point, covariance, normal))| Neighbour {
-            point,
-            covariance,
-            normal,
+        best.map(|(_, (point, patch))| Neighbour {
+            point: *point,
+            covariance: patch.covariance,
+            normal: patch.normal,
         })
     }
 }
@@ -136,9 +152,12 @@ mod tests {
     fn holds_and_finds_what_kiss_icps_map_does() {
         let pts = room();
         let pose = Isometry3::translation(0.3, -0.2, 0.1);
-        let covs = vec![Matrix3::identity(); pts.len()];
         let mut ours = CovarianceMap::new(0.3, 100.0, 20);
-        ours.update(&pts, &covs, &pose);
+        let patch = Patch {
+            covariance: Matrix3::identity(),
+            normal: Vector3::z(),
+        };
+        ours.update(&pts, &pose, |admitted| vec![patch; admitted.len()]);
         let mut kiss = VoxelHashMap::new(0.3, 100.0, 20);
         kiss.update(&pts, &pose);
         assert_eq!(ours.len(), kiss.len());

@@ -6,7 +6,7 @@ use nalgebra::{Isometry3, Matrix6, Point3, Vector6};
 
 use super::align::{align, check_size, GicpCloud, GicpResult};
 use super::config::{GicpConfig, GicpMode};
-use super::covariances::{covariances, covariances_at, Indexed};
+use super::covariances::{patches_at, Indexed, Patch};
 use super::local_map::CovarianceMap;
 use super::solve::Pair;
 use crate::kiss_icp::threshold::AdaptiveThreshold;
@@ -103,7 +103,7 @@ impl Gicp {
         };
         let settings = c.settings(c.max_correspondence_distance, None);
         let r = align(
-            (&current.cloud.points, &current.covariances),
+            (&current.cloud.points, &current.patches),
             target,
             delta,
             &settings,
@@ -131,17 +131,21 @@ impl Gicp {
         check_size(map_points.len())?;
         grid.downsample_into(&map_points, 1.5 * v, &mut source);
         let dense = Indexed::new(map_points)?;
-        let map_covariances = covariances(&dense, c.k_correspondences, c.gicp_epsilon);
-        let source_covariances =
-            covariances_at(&dense, &source, c.k_correspondences, c.gicp_epsilon);
+        let (k, epsilon) = (c.k_correspondences, c.gicp_epsilon);
+        // A map point's patch from its neighbours in the frame (computed when admitted).
+        let patches_of = |admitted: &[usize]| -> Vec<Patch> {
+            let points: Vec<Point3<f64>> = admitted.iter().map(|&i| dense.points[i]).collect();
+            patches_at(&dense, &points, k, epsilon)
+        };
         let n = source.len();
         let Reference::Map(map) = &mut self.reference else {
             unreachable!("local_map runs in local-map mode")
         };
         if map.is_empty() {
-            map.update(&dense.points, &map_covariances, &self.last_pose);
+            map.update(&dense.points, &self.last_pose, patches_of);
             return Ok(Outcome::first(self.last_pose, n));
         }
+        let source_patches = patches_at(&dense, &source, k, epsilon);
         let guess = self.last_pose * delta;
         // KISS-ICP's: pairs within 3σ, kernel σ.
         let max_distance = match c.adaptive_threshold {
@@ -150,7 +154,7 @@ impl Gicp {
         };
         let kernel = c.robust_kernel.then_some(max_distance / 3.0);
         let r = align(
-            (&source, &source_covariances),
+            (&source, &source_patches),
             &*map,
             &guess,
             &c.settings(max_distance, kernel),
@@ -161,7 +165,7 @@ impl Gicp {
         let Reference::Map(map) = &mut self.reference else {
             unreachable!("local_map runs in local-map mode")
         };
-        map.update(&dense.points, &map_covariances, &r.pose);
+        map.update(&dense.points, &r.pose, patches_of);
         self.last_delta = self.last_pose.inverse() * r.pose;
         self.last_delta.rotation.renormalize();
         self.last_pose = r.pose;
