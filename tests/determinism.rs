@@ -91,3 +91,24 @@ fn hybrid_is_bit_identical_across_thread_counts() {
         "hybrid on one thread and on three differ"
     );
 }
+
+#[test]
+fn gicp_is_bit_identical_across_runs_and_thread_counts() {
+    // Both modes and both costs: covariances, pairing and the normal equations are
+    // chunk-ordered, so one thread and three give the same bits.
+    for registrar in [
+        "kind = 'gicp'",
+        "kind = 'gicp'\ncost = 'point-to-plane'",
+        "kind = 'gicp'\nmode = 'frame-to-frame'\nvoxel_size = 0.5",
+    ] {
+        let gicp = format!("{RAW}[registrar]\n{registrar}\n");
+        let one = run_config(&gicp, 1);
+        assert_eq!(one.len(), 15);
+        assert_eq!(one, run_config(&gicp, 1), "{registrar}: two runs differ");
+        assert_eq!(
+            one,
+            run_config(&gicp, 3),
+            "{registrar}: one thread and three differ"
+        );
+    }
+}

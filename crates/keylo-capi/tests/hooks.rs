@@ -175,3 +175,82 @@ fn two_threads_on_one_pipeline_get_busy_not_a_race() {
     // SAFETY: no call is running any more.
     unsafe { keylo_pipeline_free(p) };
 }
+
+/// GICP comes from the registry like every registrar: both modes register, follow
+/// `set_pose` (frame to frame: the previous scan moves with the pose; local map: the map
+/// stays, so a pose far from it gets an error until it is set back) and `reset`, and a bad
+/// parameter is refused with its key in the message.
+#[test]
+fn gicp_is_taken_like_any_registrar() {
+    for toml in [
+        c"[registrar]\nkind = \"gicp\"\nvoxel_size = 0.3\nmax_range = 30.0\n",
+        c"[registrar]\nkind = \"gicp\"\nvoxel_size = 0.3\nmode = \"frame-to-frame\"\n",
+    ] {
+        let mut err = [0 as c_char; 256];
+        // SAFETY: valid strings and buffer.
+        let p =
+            unsafe { keylo_pipeline_new(toml.as_ptr(), std::ptr::null(), err.as_mut_ptr(), 256) };
+        assert!(!p.is_null());
+        for k in 0..3 {
+            assert_eq!(push(p, k), KEYLO_CAPI_OK, "{}", error(p));
+        }
+        let mut pose = KeyloPose {
+            size: std::mem::size_of::<KeyloPose>() as u32,
+            ..KeyloPose::default()
+        };
+        // SAFETY: `pose` is writable and its size is set.
+        assert_eq!(unsafe { keylo_pipeline_pose(p, &mut pose) }, KEYLO_CAPI_OK);
+        // The sensor moves 0.1 m a frame along x: at 0.2 m by frame 2.
+        assert!(
+            (pose.translation[0] - 0.2).abs() < 0.01,
+            "{:?}",
+            pose.translation
+        );
+        // set_pose moves the odometry, not its map: 100 m away no map point is near, so
+        // the frame is an error naming that (KISS-ICP would predict), and the state is kept.
+        let mut moved = IDENTITY;
+        moved[3] = 100.0;
+        // SAFETY: 16 doubles; a live pipeline.
+        unsafe {
+            assert_eq!(keylo_pipeline_set_pose(p, moved.as_ptr()), KEYLO_CAPI_OK);
+        }
+        let code = push(p, 3);
+        let frame_to_frame = toml.to_string_lossy().contains("frame-to-frame");
+        if frame_to_frame {
+            assert_eq!(code, KEYLO_CAPI_OK, "{}", error(p));
+            // SAFETY: as above.
+            assert_eq!(unsafe { keylo_pipeline_pose(p, &mut pose) }, KEYLO_CAPI_OK);
+            assert!(pose.translation[0] > 99.0, "{:?}", pose.translation);
+        } else {
+            assert_eq!(code, KEYLO_CAPI_ERROR);
+            assert!(error(p).contains("too few to register"), "{}", error(p));
+            let mut back = IDENTITY;
+            back[3] = 0.2;
+            // SAFETY: as above.
+            unsafe {
+                assert_eq!(keylo_pipeline_set_pose(p, back.as_ptr()), KEYLO_CAPI_OK);
+            }
+            assert_eq!(push(p, 3), KEYLO_CAPI_OK, "{}", error(p));
+            // SAFETY: as above.
+            assert_eq!(unsafe { keylo_pipeline_pose(p, &mut pose) }, KEYLO_CAPI_OK);
+            assert!(
+                (pose.translation[0] - 0.3).abs() < 0.01,
+                "{:?}",
+                pose.translation
+            );
+        }
+        // SAFETY: a live pipeline.
+        assert_eq!(unsafe { keylo_pipeline_reset(p) }, KEYLO_CAPI_OK);
+        assert_eq!(push(p, 0), KEYLO_CAPI_OK, "{}", error(p));
+        // SAFETY: no call is running.
+        unsafe { keylo_pipeline_free(p) };
+    }
+    let bad = c"[registrar]\nkind = \"gicp\"\nk_correspondences = 1\n";
+    let mut err = [0 as c_char; 256];
+    // SAFETY: valid strings and buffer.
+    let p = unsafe { keylo_pipeline_new(bad.as_ptr(), std::ptr::null(), err.as_mut_ptr(), 256) };
+    assert!(p.is_null());
+    // SAFETY: the buffer is NUL-terminated by keylo_pipeline_new.
+    let text = unsafe { std::ffi::CStr::from_ptr(err.as_ptr()) }.to_string_lossy();
+    assert!(text.contains("k_correspondences"), "{text}");
+}

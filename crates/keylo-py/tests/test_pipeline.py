@@ -180,3 +180,32 @@ def test_ctrl_c_stops_a_long_run_and_keeps_the_frames_done(tmp_path):
     interrupted, frames, poses = out.split()
     assert p.returncode == 0
     assert interrupted == "True" and int(frames) == int(poses) > 0
+
+
+GICP = CONFIG.replace('kind = "kiss-icp"', 'kind = "gicp"\nvoxel_size = 0.5')
+
+
+@pytest.mark.parametrize("mode", ["local-map", "frame-to-frame"])
+def test_gicp_is_taken_like_any_registrar(mode, sim_bins, keylo_bin, tmp_path):
+    """GICP from Python: `keylo run`'s trajectory bit for bit, the hooks, its errors."""
+    config = GICP.replace("voxel_size = 0.5", f'voxel_size = 0.5\nmode = "{mode}"')
+    cli = cli_poses(keylo_bin, tmp_path, sim_bins, config)
+    ours = python_poses(sim_bins, config)
+    assert len(cli) >= 3
+    np.testing.assert_array_equal(ours[:, :3, :], cli)
+    frames = list(keylo.open(sim_bins))
+    odometry = keylo.Odometry(config)
+    first = odometry.process_frame(frames[0])
+    assert first.registered_points > 0 and len(odometry.local_map()) > 0
+    moved = np.eye(4)
+    moved[0, 3] = 100.0
+    odometry.set_pose(moved)
+    if mode == "frame-to-frame":  # the previous scan moves with the pose
+        assert odometry.process_frame(frames[1]).pose[0, 3] > 99.0
+    else:  # the map stays: nothing of it near a pose 100 m away
+        with pytest.raises(keylo.StageError, match="too few to register"):
+            odometry.process_frame(frames[1])
+    odometry.reset()
+    assert np.array_equal(odometry.process_frame(frames[2]).pose, np.eye(4))
+    with pytest.raises(keylo.ConfigError, match="k_correspondences"):
+        keylo.Odometry({"registrar": {"kind": "gicp", "k_correspondences": 1}})
