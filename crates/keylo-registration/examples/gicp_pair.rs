@@ -112,13 +112,8 @@ fn main() -> Result<(), String> {
         let points = cloud(f, &o)?;
         let t0 = Instant::now();
         let cur = prepare(points)?;
-        let r = align(
-            (&cur.cloud.points, &cur.patches),
-            &prev,
-            &vel,
-            &o.settings,
-        )
-        .map_err(|e| e.to_string())?;
+        let r = align((&cur.cloud.points, &cur.patches), &prev, &vel, &o.settings)
+            .map_err(|e| e.to_string())?;
         total += t0.elapsed().as_secs_f64() * 1e3;
         vel = r.pose;
         pose *= vel;

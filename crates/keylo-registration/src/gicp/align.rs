@@ -168,7 +168,8 @@ pub fn align(
                 let n = target.nearest(&(rel * p), max_d2)?;
                 let weight = match settings.cost {
                     Cost::Gicp => {
-                        let c = rotation * patches[i].covariance * rotation.transpose() + n.covariance;
+                        let c =
+                            rotation * patches[i].covariance * rotation.transpose() + n.covariance;
                         c.try_inverse()?
                     }
                     Cost::PointToPlane => n.normal * n.normal.transpose(),

@@ -64,12 +64,7 @@ pub fn patches(cloud: &Indexed, k: usize, epsilon: f64) -> Vec<Patch> {
 
 /// [`patches`] at `queries`, each from its `k` nearest points of `cloud` (a sparse cloud's
 /// points get their patches from a denser one).
-pub fn patches_at(
-    cloud: &Indexed,
-    queries: &[Point3<f64>],
-    k: usize,
-    epsilon: f64,
-) -> Vec<Patch> {
+pub fn patches_at(cloud: &Indexed, queries: &[Point3<f64>], k: usize, epsilon: f64) -> Vec<Patch> {
     let k = k.min(cloud.points.len()).max(1);
     let n = NonZero::new(k).unwrap_or(NonZero::<usize>::MIN);
     queries

@@ -9,16 +9,15 @@ use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 
 use super::align::{Neighbour, Target};
 use super::covariances::Patch;
-use crate::kiss_icp::voxel_map::NEIGHBOURS;
+use crate::kiss_icp::voxel_map::{faces, gap2, NEIGHBOURS};
 use crate::voxel::{voxel_of, VoxelMap};
 
-/// A map point with its patch (world frame).
-type Entry = (Point3<f64>, Patch);
-
-/// A voxel's points.
+/// A voxel's points and their patches (world frame), apart: the nearest-point search reads
+/// only the points.
 #[derive(Default)]
 struct Block {
-    points: Vec<Entry>,
+    points: Vec<Point3<f64>>,
+    patches: Vec<Patch>,
 }
 
 /// The local map of points with covariances.
@@ -55,7 +54,7 @@ impl CovarianceMap {
         let mut keys: Vec<_> = self.map.keys().copied().collect();
         keys.sort_unstable();
         keys.iter()
-            .flat_map(|k| self.map[k].points.iter().map(|(p, _)| *p))
+            .flat_map(|k| self.map[k].points.iter().copied())
             .collect()
     }
 
@@ -84,18 +83,19 @@ impl CovarianceMap {
                 || block
                     .points
                     .iter()
-                    .any(|(q, _)| (q - w).norm_squared() < resolution2)
+                    .any(|q| (q - w).norm_squared() < resolution2)
             {
                 continue;
             }
             slots.push((key, block.points.len()));
-            block.points.push((w, placeholder));
+            block.points.push(w);
+            block.patches.push(placeholder);
             admitted.push(i);
         }
         let r = pose.rotation.to_rotation_matrix().into_inner();
         for ((key, slot), patch) in slots.iter().zip(patches_of(&admitted)) {
-            if let Some(entry) = self.map.get_mut(key).and_then(|b| b.points.get_mut(*slot)) {
-                entry.1 = patch.rotated(&r);
+            if let Some(entry) = self.map.get_mut(key).and_then(|b| b.patches.get_mut(*slot)) {
+                *entry = patch.rotated(&r);
             }
         }
         self.len += admitted.len();
@@ -105,7 +105,7 @@ impl CovarianceMap {
             let keep = b
                 .points
                 .first()
-                .is_some_and(|(p, _)| (p.coords - origin).norm_squared() < max2);
+                .is_some_and(|p| (p.coords - origin).norm_squared() < max2);
             if !keep {
                 removed += b.points.len();
             }
@@ -117,26 +117,31 @@ impl CovarianceMap {
 
 impl Target for CovarianceMap {
     /// The nearest map point among the 27 voxels around `q` (a pair farther than one voxel
-    /// may be missed, as in KISS-ICP).
+    /// may be missed, as in KISS-ICP), the query's own voxel first and the voxels that cannot
+    /// hold a nearer point than the best so far skipped, as KISS-ICP's map searches.
     fn nearest(&self, q: &Point3<f64>, max_d2: f64) -> Option<Neighbour> {
-        let v = voxel_of(q, self.voxel_size);
-        let mut best: Option<(f64, &Entry)> = None;
+        let (v, faces) = faces(q, self.voxel_size);
+        let mut best: Option<(&Block, usize)> = None;
+        let mut best_d2 = max_d2;
         for d in NEIGHBOURS {
-            let key = [v[0] + d[0], v[1] + d[1], v[2] + d[2]];
-            let Some(block) = self.map.get(&key) else {
+            if gap2(&d, &faces) >= best_d2 {
+                continue;
+            }
+            let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) else {
                 continue;
             };
-            for entry in &block.points {
-                let d2 = (entry.0 - q).norm_squared();
-                if d2 < max_d2 && best.is_none_or(|(b, _)| d2 < b) {
-                    best = Some((d2, entry));
+            for (i, p) in block.points.iter().enumerate() {
+                let d2 = (p - q).norm_squared();
+                if d2 < best_d2 {
+                    best = Some((block, i));
+                    best_d2 = d2;
                 }
             }
         }
-        best.map(|(_, (point, patch))| Neighbour {
-            point: *point,
-            covariance: patch.covariance,
-            normal: patch.normal,
+        best.map(|(block, i)| Neighbour {
+            point: block.points[i],
+            covariance: block.patches[i].covariance,
+            normal: block.patches[i].normal,
         })
     }
 }

@@ -44,16 +44,31 @@ pub(crate) const NEIGHBOURS: [Voxel; 27] = [
     [-1, -1, -1],
 ];
 
-/// The points of one voxel and the last update that touched it.
 /// Distances from a point to the low and high faces of its voxel, per axis.
-struct Faces {
+pub(crate) struct Faces {
     below: [f64; 3],
     above: [f64; 3],
 }
 
-/// The squared distance from the point of `f` to the voxel at offset `d` from its own.
+/// The voxel (edge `voxel_size`) of `query` and its distances to the voxel's low and high
+/// faces, per axis.
 #[inline]
-fn gap2(d: &Voxel, f: &Faces) -> f64 {
+pub(crate) fn faces(query: &Point3<f64>, voxel_size: f64) -> (Voxel, Faces) {
+    let v = voxel_of(query, voxel_size);
+    let mut below = [0.0; 3];
+    let mut above = [0.0; 3];
+    for k in 0..3 {
+        let low = f64::from(v[k]) * voxel_size;
+        below[k] = query[k] - low;
+        above[k] = low + voxel_size - query[k];
+    }
+    (v, Faces { below, above })
+}
+
+/// The squared distance from the point of `f` to the voxel at offset `d` from its own (a
+/// voxel that far cannot hold a point nearer than that).
+#[inline]
+pub(crate) fn gap2(d: &Voxel, f: &Faces) -> f64 {
     let mut g = 0.0;
     for (k, step) in d.iter().enumerate() {
         g += match step {
@@ -256,15 +271,7 @@ impl VoxelHashMap {
     /// The voxel of `query` and its distances to the voxel's low and high faces, per axis.
     #[inline]
     fn faces(&self, query: &Point3<f64>) -> (Voxel, Faces) {
-        let v = voxel_of(query, self.voxel_size);
-        let mut below = [0.0; 3];
-        let mut above = [0.0; 3];
-        for k in 0..3 {
-            let low = f64::from(v[k]) * self.voxel_size;
-            below[k] = query[k] - low;
-            above[k] = low + self.voxel_size - query[k];
-        }
-        (v, Faces { below, above })
+        faces(query, self.voxel_size)
     }
 
     /// Appends to `out` the map points closer than `radius` (at most one voxel edge) to
