@@ -17,7 +17,7 @@
 mod plane_info;
 
 pub use plane_info::{information_with_normals, plane_information, PlaneInformation};
-pub(crate) use plane_info::{normals_of, planar_normal_of, plane_information_with};
+pub(crate) use plane_info::{normals_of, planar_normal_of, plane_information_with, plane_normal};
 
 use keylo_core::Degeneracy;
 use nalgebra::{Matrix6, Vector6};

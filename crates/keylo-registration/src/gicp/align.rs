@@ -5,6 +5,7 @@
 //! it stops when one iteration changes no rotation entry by `rotation_epsilon` and no other
 //! entry of the 4×4 transform by `transformation_epsilon`, or after `max_iterations`.
 
+use kiddo::SquaredEuclidean;
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
@@ -111,6 +112,10 @@ pub struct Neighbour {
 pub trait Target: Sync {
     /// The nearest target point to `q` closer than `sqrt(max_d2)`.
     fn nearest(&self, q: &Point3<f64>, max_d2: f64) -> Option<Neighbour>;
+
+    /// Appends to `out` the target points closer than `radius` to `q` (for the degeneracy
+    /// analysis' plane fits).
+    fn points_within(&self, q: &Point3<f64>, radius: f64, out: &mut Vec<Point3<f64>>);
 }
 
 impl Target for GicpCloud {
@@ -121,6 +126,16 @@ impl Target for GicpCloud {
             covariance: self.patches[j].covariance,
             normal: self.patches[j].normal,
         })
+    }
+
+    fn points_within(&self, q: &Point3<f64>, radius: f64, out: &mut Vec<Point3<f64>>) {
+        let hits = self
+            .cloud
+            .tree
+            .query(&[q.x, q.y, q.z])
+            .within::<SquaredEuclidean<f64>>(radius * radius)
+            .execute();
+        out.extend(hits.iter().map(|h| self.cloud.points[h.item as usize]));
     }
 }
 

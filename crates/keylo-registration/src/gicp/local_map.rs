@@ -144,6 +144,21 @@ impl Target for CovarianceMap {
             normal: block.patches[i].normal,
         })
     }
+
+    /// The map points closer than `radius` to `q` among the 27 voxels around it, as
+    /// KISS-ICP's map gives them to its degeneracy analysis.
+    fn points_within(&self, q: &Point3<f64>, radius: f64, out: &mut Vec<Point3<f64>>) {
+        let (v, faces) = faces(q, self.voxel_size);
+        let r2 = radius * radius;
+        for d in NEIGHBOURS {
+            if gap2(&d, &faces) >= r2 {
+                continue;
+            }
+            if let Some(block) = self.map.get(&[v[0] + d[0], v[1] + d[1], v[2] + d[2]]) {
+                out.extend(block.points.iter().filter(|p| (*p - q).norm_squared() < r2));
+            }
+        }
+    }
 }
 
 #[cfg(test)]

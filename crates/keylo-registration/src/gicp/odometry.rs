@@ -2,9 +2,10 @@
 //! a KISS-ICP-style local map of points with covariances.
 
 use keylo_core::{CoreError, Degeneracy, PointCloud, Registrar, Registration};
-use nalgebra::{Isometry3, Matrix6, Point3, Vector6};
+use nalgebra::{Isometry3, Matrix6, Point3, Vector3, Vector6};
+use rayon::prelude::*;
 
-use super::align::{align, check_size, GicpCloud, GicpResult};
+use super::align::{align, check_size, GicpCloud, GicpResult, Target};
 use super::config::{GicpConfig, GicpMode};
 use super::covariances::{patches_at, Indexed, Patch};
 use super::local_map::CovarianceMap;
@@ -180,28 +181,57 @@ impl Gicp {
             return None;
         }
         let stride = r.pairs.len().div_ceil(c.max_points).max(1);
+        // KISS-ICP's analysis: normals of the planar target neighbourhoods within a voxel
+        // edge (not the patches', which are a plane along lines and edges too).
+        let radius = match self.config.voxel_size {
+            v if v > 0.0 => v,
+            _ => 0.5,
+        };
         // The pairs' source points were moved by the guess; r.pose = rel · guess.
-        let (info, squares, count) = plane_information(&r.pairs, stride, &r.pose, frame);
+        let (info, squares, count) = match &self.reference {
+            Reference::Map(map) => plane_information(&r.pairs, stride, &r.pose, frame, map, radius),
+            Reference::Previous(Some(previous)) => {
+                plane_information(&r.pairs, stride, &r.pose, frame, previous, radius)
+            }
+            Reference::Previous(None) => return None,
+        };
         let rms = (squares / count.max(1) as f64).sqrt();
         Some(degeneracy::analyse(&info, count, rms, c.weak_ratio))
     }
 }
 
-/// Σ JᵀJ of `n · (x − sensor)` residuals over every `stride`-th pair, rotated into `frame`'s
-/// axes; with the sum of squared ranges and the count.
+/// Σ JᵀJ of `n · (x − sensor)` residuals over every `stride`-th pair whose target point has a
+/// planar neighbourhood in `target` within `radius` (`n` its normal), rotated into `frame`'s
+/// axes; with the sum of squared ranges and the count. Normals are fitted in parallel and
+/// summed in pair order.
 fn plane_information(
     pairs: &[Pair],
     stride: usize,
     pose: &Isometry3<f64>,
     frame: &Isometry3<f64>,
+    target: &impl Target,
+    radius: f64,
 ) -> (Matrix6<f64>, f64, usize) {
     let rot = frame.rotation;
     let sensor = pose.translation.vector;
+    let picked: Vec<&Pair> = pairs.iter().step_by(stride).collect();
+    let normals: Vec<Option<Vector3<f64>>> = picked
+        .par_iter()
+        .with_min_len(128)
+        .map_init(Vec::new, |near, pair| {
+            near.clear();
+            target.points_within(&pair.target, radius, near);
+            degeneracy::plane_normal(near)
+        })
+        .collect();
     let (mut info, mut squares, mut count) = (Matrix6::zeros(), 0.0, 0);
-    for pair in pairs.iter().step_by(stride) {
+    for (pair, normal) in picked.iter().zip(&normals) {
+        let Some(normal) = normal else {
+            continue;
+        };
         // The pair's target point stands for the aligned source point.
         let x = rot * (pair.target.coords - sensor);
-        let n = rot * pair.normal;
+        let n = rot * normal;
         let j = Vector6::new(n.x, n.y, n.z, 0.0, 0.0, 0.0) + {
             let m = x.cross(&n);
             Vector6::new(0.0, 0.0, 0.0, m.x, m.y, m.z)
