@@ -59,7 +59,8 @@ pub struct GicpConfig {
     /// … and no rotation-matrix entry by this (PCL 2e-3, about 0.1°).
     pub rotation_epsilon: f64,
     /// Local map: converged when an iteration's motion (twist norm) is below this (KISS-ICP's
-    /// 1e-4; PCL's epsilons stop up to 0.1° short each frame, which drifts in turns).
+    /// rule and value, 1e-4; `transformation_epsilon` and `rotation_epsilon` are frame to
+    /// frame's).
     pub convergence_criterion: f64,
     /// Iterations per frame at most (PCL `setMaximumIterations`, 200).
     pub max_iterations: usize,

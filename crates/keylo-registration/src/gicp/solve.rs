@@ -27,10 +27,10 @@ const STEP_TOLERANCE: f64 = 1e-10;
 
 /// The transform minimising the pairs' cost from `start` (Gauss–Newton to a step below
 /// [`STEP_TOLERANCE`], at most [`MAX_STEPS`] steps). PCL's BFGS instead stops once the mean
-/// cost's gradient is below 0.01 (its gradient tolerances); that absolute threshold stops a
-/// point-to-plane or robust-kernel solve far too early (a yaw bias per frame that drifts in
-/// turns), and on PCL's own parity pairs solving to the minimum changes the pose by < 0.1 mm
-/// (docs/results/gicp.md).
+/// cost's gradient is below 0.01 (its gradient tolerances), an absolute threshold whose
+/// meaning changes with the cost's scale (point-to-plane and robust-kernel costs are far
+/// smaller than plane-to-plane ones); on PCL's own parity pairs solving to the minimum changes
+/// the pose by < 0.1 mm (docs/results/gicp.md).
 ///
 /// With `kernel` κ each pair's weight is scaled by KISS-ICP's Geman–McClure factor
 /// `(κ / (κ + |r|²))²` at the current residual, so pairs far apart (wrong pairs after a fast
