@@ -30,6 +30,10 @@ pub struct Gicp {
     last_delta: Isometry3<f64>,
     prior: Option<Isometry3<f64>>,
     pool: Option<rayon::ThreadPool>,
+    /// The deskewed, cropped frame and the voxel grid, their buffers kept between frames (as
+    /// KISS-ICP's: a 100k-point frame's buffers are megabytes, new pages each frame).
+    frame: Vec<Point3<f64>>,
+    grid: voxel::UpstreamGrid,
 }
 
 impl Gicp {
@@ -57,6 +61,8 @@ impl Gicp {
             last_delta: Isometry3::identity(),
             prior: None,
             pool,
+            frame: Vec::new(),
+            grid: voxel::UpstreamGrid::default(),
         })
     }
 
@@ -73,25 +79,26 @@ impl Gicp {
     fn register_points(&mut self, cloud: &PointCloud) -> Result<Outcome, RegistrationError> {
         let delta = self.prior.take().unwrap_or(self.last_delta);
         let range = (self.config.min_range, self.config.max_range);
-        let frame = frame_step::deskew_and_crop(cloud, self.config.deskew, &delta, range);
-        if frame.is_empty() {
-            return Err(frame_step::nothing_in_range(cloud, range));
-        }
-        match self.config.mode {
-            GicpMode::FrameToFrame => self.frame_to_frame(frame, &delta),
+        let mut frame = std::mem::take(&mut self.frame);
+        frame_step::deskew_and_crop_into(cloud, self.config.deskew, &delta, range, &mut frame);
+        let outcome = match self.config.mode {
+            _ if frame.is_empty() => Err(frame_step::nothing_in_range(cloud, range)),
+            GicpMode::FrameToFrame => self.frame_to_frame(&frame, &delta),
             GicpMode::LocalMap => self.local_map(&frame, &delta),
-        }
+        };
+        self.frame = frame;
+        outcome
     }
 
     fn frame_to_frame(
         &mut self,
-        frame: Vec<Point3<f64>>,
+        frame: &[Point3<f64>],
         delta: &Isometry3<f64>,
     ) -> Result<Outcome, RegistrationError> {
         let c = &self.config;
         let points = match c.voxel_size {
-            v if v > 0.0 => voxel::centroids(&frame, v),
-            _ => frame,
+            v if v > 0.0 => voxel::centroids(frame, v),
+            _ => frame.to_vec(),
         };
         let current = GicpCloud::new(points, c.k_correspondences, c.gicp_epsilon)?;
         let n = current.len();
@@ -127,10 +134,9 @@ impl Gicp {
         let c = &self.config;
         let v = c.voxel_size;
         let (mut map_points, mut source) = (Vec::new(), Vec::new());
-        let mut grid = voxel::UpstreamGrid::default();
-        grid.downsample_into(frame, 0.5 * v, &mut map_points);
+        self.grid.downsample_into(frame, 0.5 * v, &mut map_points);
         check_size(map_points.len())?;
-        grid.downsample_into(&map_points, 1.5 * v, &mut source);
+        self.grid.downsample_into(&map_points, 1.5 * v, &mut source);
         let dense = Indexed::new(map_points)?;
         let (k, epsilon) = (c.k_correspondences, c.gicp_epsilon);
         // A map point's patch from its neighbours in the frame (computed when admitted).
