@@ -32,6 +32,9 @@ pub struct GicpSettings {
     /// KISS-ICP's Geman–McClure kernel scale κ (m): pairs are down-weighted by
     /// `(κ / (κ + |r|²))²`; `None`: every pair counts fully (PCL).
     pub kernel: Option<f64>,
+    /// Gauss–Newton steps per pairing at most: [`super::solve::MAX_STEPS`] solves each
+    /// pairing to its minimum (PCL); 1 re-pairs after every step (KISS-ICP).
+    pub steps_per_pairing: usize,
 }
 
 impl Default for GicpSettings {
@@ -44,6 +47,7 @@ impl Default for GicpSettings {
             cost: Cost::Gicp,
             kernel: None,
             step_convergence: None,
+            steps_per_pairing: super::solve::MAX_STEPS,
         }
     }
 }
@@ -206,7 +210,7 @@ pub fn align(
                 settings.max_correspondence_distance
             )));
         }
-        let next = minimise(&pairs, &rel, settings.kernel);
+        let next = minimise(&pairs, &rel, settings.kernel, settings.steps_per_pairing);
         iterations += 1;
         converged = match settings.step_convergence {
             Some(c) => crate::se3::log(&(next * rel.inverse())).norm() < c,

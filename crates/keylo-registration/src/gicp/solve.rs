@@ -20,13 +20,14 @@ pub struct Pair {
     pub normal: nalgebra::Vector3<f64>,
 }
 
-/// Gauss–Newton steps at most per iteration (PCL's BFGS: 20).
-const MAX_STEPS: usize = 20;
+/// Gauss–Newton steps at most per iteration when solving to the minimum (PCL's BFGS: 20).
+pub const MAX_STEPS: usize = 20;
 /// A step shorter than this (twist norm) ends the inner solve.
 const STEP_TOLERANCE: f64 = 1e-10;
 
 /// The transform minimising the pairs' cost from `start` (Gauss–Newton to a step below
-/// [`STEP_TOLERANCE`], at most [`MAX_STEPS`] steps). PCL's BFGS instead stops once the mean
+/// [`STEP_TOLERANCE`], at most `max_steps` steps: [`MAX_STEPS`] to solve each pairing to its
+/// minimum as PCL does, 1 to take one step per pairing as KISS-ICP does). PCL's BFGS instead stops once the mean
 /// cost's gradient is below 0.01 (its gradient tolerances), an absolute threshold whose
 /// meaning changes with the cost's scale (point-to-plane and robust-kernel costs are far
 /// smaller than plane-to-plane ones); on PCL's own parity pairs solving to the minimum changes
@@ -35,9 +36,14 @@ const STEP_TOLERANCE: f64 = 1e-10;
 /// With `kernel` κ each pair's weight is scaled by KISS-ICP's Geman–McClure factor
 /// `(κ / (κ + |r|²))²` at the current residual, so pairs far apart (wrong pairs after a fast
 /// turn) lose their pull.
-pub fn minimise(pairs: &[Pair], start: &Isometry3<f64>, kernel: Option<f64>) -> Isometry3<f64> {
+pub fn minimise(
+    pairs: &[Pair],
+    start: &Isometry3<f64>,
+    kernel: Option<f64>,
+    max_steps: usize,
+) -> Isometry3<f64> {
     let mut t = *start;
-    for _ in 0..MAX_STEPS {
+    for _ in 0..max_steps {
         let (h, g) = normal_equations(pairs, &t, kernel);
         let Some(step) = h.cholesky().map(|c| c.solve(&(-g))) else {
             break;
