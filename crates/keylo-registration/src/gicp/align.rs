@@ -5,7 +5,6 @@
 //! it stops when one iteration changes no rotation entry by `rotation_epsilon` and no other
 //! entry of the 4×4 transform by `transformation_epsilon`, or after `max_iterations`.
 
-use kiddo::SquaredEuclidean;
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
@@ -133,13 +132,9 @@ impl Target for GicpCloud {
     }
 
     fn points_within(&self, q: &Point3<f64>, radius: f64, out: &mut Vec<Point3<f64>>) {
-        let hits = self
-            .cloud
-            .tree
-            .query(&[q.x, q.y, q.z])
-            .within::<SquaredEuclidean<f64>>(radius * radius)
-            .execute();
-        out.extend(hits.iter().map(|h| self.cloud.points[h.item as usize]));
+        let mut hits = Vec::new();
+        self.cloud.tree.within(q, radius, &mut hits);
+        out.extend(hits.iter().map(|&i| self.cloud.points[i as usize]));
     }
 }
 

@@ -3,38 +3,35 @@
 //! covariance's eigenvectors kept, its eigenvalues set to (1, 1, ε), so every point is a small
 //! plane patch whatever the neighbours' spread.
 
-use std::num::NonZero;
-
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Matrix3, Point3, SymmetricEigen, Vector3};
 use rayon::prelude::*;
 
+use super::knn::KnnTree;
 use crate::RegistrationError;
 
 /// A cloud with the k-d tree of its points (for correspondences and neighbours).
 pub struct Indexed {
     pub points: Vec<Point3<f64>>,
-    pub tree: ImmutableKdTree<f64, 3>,
+    pub tree: KnnTree,
 }
 
 impl Indexed {
     /// Builds the tree; an error for an empty cloud.
     pub fn new(points: Vec<Point3<f64>>) -> Result<Self, RegistrationError> {
-        let coords: Vec<[f64; 3]> = points.iter().map(|p| [p.x, p.y, p.z]).collect();
-        let tree = ImmutableKdTree::new_from_slice(&coords)
-            .map_err(|e| RegistrationError::BadCloud(format!("GICP k-d tree: {e:?}")))?;
+        if points.is_empty() {
+            return Err(RegistrationError::BadCloud(
+                "GICP: an empty cloud has no neighbours".into(),
+            ));
+        }
+        let tree = KnnTree::new(&points);
         Ok(Self { points, tree })
     }
 
     /// The nearest point to `q`: (index, squared distance).
     #[inline]
     pub fn nearest(&self, q: &Point3<f64>) -> (usize, f64) {
-        let hit = self
-            .tree
-            .query(&[q.x, q.y, q.z])
-            .nearest_one::<SquaredEuclidean<f64>>()
-            .execute();
-        (hit.item as usize, hit.distance)
+        let (i, d2) = self.tree.nearest(q).unwrap_or((0, f64::INFINITY));
+        (i as usize, d2)
     }
 }
 
@@ -66,20 +63,15 @@ pub fn patches(cloud: &Indexed, k: usize, epsilon: f64) -> Vec<Patch> {
 /// points get their patches from a denser one).
 pub fn patches_at(cloud: &Indexed, queries: &[Point3<f64>], k: usize, epsilon: f64) -> Vec<Patch> {
     let k = k.min(cloud.points.len()).max(1);
-    let n = NonZero::new(k).unwrap_or(NonZero::<usize>::MIN);
     queries
         .par_iter()
         .with_min_len(256)
-        .map(|p| {
-            let hits = cloud
-                .tree
-                .query(&[p.x, p.y, p.z])
-                .nearest_n::<SquaredEuclidean<f64>>(n)
-                .execute();
+        .map_init(Vec::new, |hits, p| {
+            cloud.tree.nearest_k(p, k, hits);
             let mut mean = Vector3::zeros();
             let mut outer = Matrix3::zeros();
-            for h in &hits {
-                let q = cloud.points[h.item as usize].coords;
+            for &(i, _) in hits.iter() {
+                let q = cloud.points[i as usize].coords;
                 mean += q;
                 outer += q * q.transpose();
             }

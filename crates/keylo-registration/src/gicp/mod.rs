@@ -7,6 +7,7 @@
 pub mod align;
 mod config;
 pub mod covariances;
+pub mod knn;
 pub mod local_map;
 mod odometry;
 pub mod solve;
