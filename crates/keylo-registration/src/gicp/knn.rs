@@ -13,16 +13,30 @@ const LEAF: usize = 12;
 /// A node: a leaf's range of `points`, or a split with its children.
 #[derive(Debug, Clone, Copy)]
 enum Node {
-    Leaf {
-        start: u32,
-        end: u32,
-    },
-    Split {
-        axis: u8,
-        value: f64,
-        left: u32,
-        right: u32,
-    },
+    Leaf { start: u32, end: u32 },
+    Split(Cut),
+}
+
+/// A split: points below `value` along `axis` are in `left`, the others in `right`.
+#[derive(Debug, Clone, Copy)]
+struct Cut {
+    axis: u8,
+    value: f64,
+    left: u32,
+    right: u32,
+}
+
+impl Cut {
+    /// The child on `q`'s side, the other one, and `q`'s signed distance to the plane.
+    #[inline]
+    fn sides(&self, q: &[f64; 3]) -> (u32, u32, f64) {
+        let diff = q[usize::from(self.axis)] - self.value;
+        if diff < 0.0 {
+            (self.left, self.right, diff)
+        } else {
+            (self.right, self.left, diff)
+        }
+    }
 }
 
 /// The tree over a cloud's points.
@@ -84,18 +98,11 @@ impl KnnTree {
                         }
                     }
                 }
-                Node::Split {
-                    axis,
-                    value,
-                    left,
-                    right,
-                } => {
-                    let diff = q[axis as usize] - value;
-                    if diff < 0.0 || diff * diff < r2 {
-                        stack.push(left);
-                    }
-                    if diff >= 0.0 || diff * diff < r2 {
-                        stack.push(right);
+                Node::Split(cut) => {
+                    let (near, far, diff) = cut.sides(&q);
+                    stack.push(near);
+                    if diff * diff < r2 {
+                        stack.push(far);
                     }
                 }
             }
@@ -109,18 +116,8 @@ impl KnnTree {
                     best.offer(*index, d2(p, q));
                 }
             }
-            Node::Split {
-                axis,
-                value,
-                left,
-                right,
-            } => {
-                let diff = q[axis as usize] - value;
-                let (near, far) = if diff < 0.0 {
-                    (left, right)
-                } else {
-                    (right, left)
-                };
+            Node::Split(cut) => {
+                let (near, far, diff) = cut.sides(q);
                 self.search(near, q, best);
                 if diff * diff < best.bound() {
                     self.search(far, q, best);
@@ -165,12 +162,12 @@ fn build(nodes: &mut Vec<Node>, points: &mut [([f64; 3], u32)], start: usize, en
     nodes.push(Node::Leaf { start: 0, end: 0 });
     let left = build(nodes, points, start, start + mid);
     let right = build(nodes, points, start + mid, end);
-    nodes[me as usize] = Node::Split {
+    nodes[me as usize] = Node::Split(Cut {
         axis: axis as u8,
         value,
         left,
         right,
-    };
+    });
     me
 }
 
