@@ -5,7 +5,7 @@
 //! it stops when one iteration changes no rotation entry by `rotation_epsilon` and no other
 //! entry of the 4×4 transform by `transformation_epsilon`, or after `max_iterations`.
 
-use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
+use nalgebra::{Isometry3, Point3};
 use rayon::prelude::*;
 
 use super::covariances::{patches, Indexed, Patch};
@@ -107,8 +107,7 @@ pub const MIN_POINTS: usize = 6;
 #[derive(Debug, Clone, Copy)]
 pub struct Neighbour {
     pub point: Point3<f64>,
-    pub covariance: Matrix3<f64>,
-    pub normal: Vector3<f64>,
+    pub patch: Patch,
 }
 
 /// Where source points find their nearest target point.
@@ -126,8 +125,7 @@ impl Target for GicpCloud {
         let (j, d2) = self.cloud.nearest(q);
         (d2 < max_d2).then(|| Neighbour {
             point: self.cloud.points[j],
-            covariance: self.patches[j].covariance,
-            normal: self.patches[j].normal,
+            patch: self.patches[j],
         })
     }
 
@@ -182,17 +180,16 @@ pub fn align(
                 let n = target.nearest(&(rel * p), max_d2)?;
                 let weight = match settings.cost {
                     Cost::Gicp => {
-                        let c =
-                            rotation * patches[i].covariance * rotation.transpose() + n.covariance;
+                        let c = rotation * patches[i].covariance * rotation.transpose()
+                            + n.patch.covariance;
                         c.try_inverse()?
                     }
-                    Cost::PointToPlane => n.normal * n.normal.transpose(),
+                    Cost::PointToPlane => n.patch.normal * n.patch.normal.transpose(),
                 };
                 Some(Pair {
                     source: p,
                     target: n.point,
                     weight,
-                    normal: n.normal,
                 })
             })
             .collect();

@@ -140,8 +140,7 @@ impl Target for CovarianceMap {
         }
         best.map(|(block, i)| Neighbour {
             point: block.points[i],
-            covariance: block.patches[i].covariance,
-            normal: block.patches[i].normal,
+            patch: block.patches[i],
         })
     }
 

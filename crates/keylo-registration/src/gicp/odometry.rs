@@ -2,7 +2,7 @@
 //! a KISS-ICP-style local map of points with covariances.
 
 use keylo_core::{CoreError, Degeneracy, PointCloud, Registrar, Registration};
-use nalgebra::{Isometry3, Matrix6, Point3, Vector3, Vector6};
+use nalgebra::{Isometry3, Point3, Vector3};
 use rayon::prelude::*;
 
 use super::align::{align, check_size, GicpCloud, GicpResult, Target};
@@ -186,42 +186,41 @@ impl Gicp {
         if !c.analyse || r.pairs.is_empty() {
             return None;
         }
-        let stride = r.pairs.len().div_ceil(c.max_points).max(1);
         // KISS-ICP's analysis: normals of the planar target neighbourhoods within a voxel
         // edge (not the patches', which are a plane along lines and edges too).
         let radius = match self.config.voxel_size {
             v if v > 0.0 => v,
             _ => 0.5,
         };
-        // The pairs' source points were moved by the guess; r.pose = rel · guess.
-        let (info, squares, count) = match &self.reference {
-            Reference::Map(map) => plane_information(&r.pairs, stride, &r.pose, frame, map, radius),
-            Reference::Previous(Some(previous)) => {
-                plane_information(&r.pairs, stride, &r.pose, frame, previous, radius)
-            }
+        let stride = r.pairs.len().div_ceil(c.max_points).max(1);
+        let picked: Vec<&Pair> = r.pairs.iter().step_by(stride).collect();
+        let normals = match &self.reference {
+            Reference::Map(map) => planar_normals(&picked, map, radius),
+            Reference::Previous(Some(previous)) => planar_normals(&picked, previous, radius),
             Reference::Previous(None) => return None,
         };
-        let rms = (squares / count.max(1) as f64).sqrt();
-        Some(degeneracy::analyse(&info, count, rms, c.weak_ratio))
+        // The pair's target point stands for the aligned source point: in the sensor frame
+        // it is r.pose⁻¹ · target, and `frame · r.pose` puts the sensor in `frame`'s axes.
+        let inverse = r.pose.inverse();
+        let points: Vec<Point3<f64>> = picked.iter().map(|p| inverse * p.target).collect();
+        let mut normals = normals.into_iter();
+        let info =
+            degeneracy::information_with_normals(&points, &(frame * r.pose), c.max_points, |_| {
+                normals.next().flatten().map(|n| frame.rotation * n)
+            });
+        Some(degeneracy::analyse(
+            &info.matrix,
+            info.residuals,
+            info.rms_range,
+            c.weak_ratio,
+        ))
     }
 }
 
-/// Σ JᵀJ of `n · (x − sensor)` residuals over every `stride`-th pair whose target point has a
-/// planar neighbourhood in `target` within `radius` (`n` its normal), rotated into `frame`'s
-/// axes; with the sum of squared ranges and the count. Normals are fitted in parallel and
-/// summed in pair order.
-fn plane_information(
-    pairs: &[Pair],
-    stride: usize,
-    pose: &Isometry3<f64>,
-    frame: &Isometry3<f64>,
-    target: &impl Target,
-    radius: f64,
-) -> (Matrix6<f64>, f64, usize) {
-    let rot = frame.rotation;
-    let sensor = pose.translation.vector;
-    let picked: Vec<&Pair> = pairs.iter().step_by(stride).collect();
-    let normals: Vec<Option<Vector3<f64>>> = picked
+/// The unit normal of the planar neighbourhood in `target` within `radius` of each pair's
+/// target point (`None`: not planar, or too few points), fitted in parallel, in pair order.
+fn planar_normals(pairs: &[&Pair], target: &impl Target, radius: f64) -> Vec<Option<Vector3<f64>>> {
+    pairs
         .par_iter()
         .with_min_len(128)
         .map_init(Vec::new, |near, pair| {
@@ -229,24 +228,7 @@ fn plane_information(
             target.points_within(&pair.target, radius, near);
             degeneracy::plane_normal(near)
         })
-        .collect();
-    let (mut info, mut squares, mut count) = (Matrix6::zeros(), 0.0, 0);
-    for (pair, normal) in picked.iter().zip(&normals) {
-        let Some(normal) = normal else {
-            continue;
-        };
-        // The pair's target point stands for the aligned source point.
-        let x = rot * (pair.target.coords - sensor);
-        let n = rot * normal;
-        let j = Vector6::new(n.x, n.y, n.z, 0.0, 0.0, 0.0) + {
-            let m = x.cross(&n);
-            Vector6::new(0.0, 0.0, 0.0, m.x, m.y, m.z)
-        };
-        info += j * j.transpose();
-        squares += x.norm_squared();
-        count += 1;
-    }
-    (info, squares, count)
+        .collect()
 }
 
 /// A frame's registration.

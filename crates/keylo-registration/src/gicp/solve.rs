@@ -10,14 +10,12 @@ use rayon::prelude::*;
 
 use crate::se3;
 
-/// One source point (already moved by the guess), its target point, the pair's weight and
-/// the target point's normal.
+/// One source point (already moved by the guess), its target point and the pair's weight.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pair {
     pub source: Point3<f64>,
     pub target: Point3<f64>,
     pub weight: Matrix3<f64>,
-    pub normal: nalgebra::Vector3<f64>,
 }
 
 /// Gauss–Newton steps at most per iteration when solving to the minimum (PCL's BFGS: 20).
@@ -27,8 +25,9 @@ const STEP_TOLERANCE: f64 = 1e-10;
 
 /// The transform minimising the pairs' cost from `start` (Gauss–Newton to a step below
 /// [`STEP_TOLERANCE`], at most `max_steps` steps: [`MAX_STEPS`] to solve each pairing to its
-/// minimum as PCL does, 1 to take one step per pairing as KISS-ICP does). PCL's BFGS instead stops once the mean
-/// cost's gradient is below 0.01 (its gradient tolerances), an absolute threshold whose
+/// minimum as PCL does, 1 to take one step per pairing as KISS-ICP does). PCL's BFGS instead
+/// stops once the mean cost's gradient is below 0.01 (its gradient tolerances), an absolute
+/// threshold whose
 /// meaning changes with the cost's scale (point-to-plane and robust-kernel costs are far
 /// smaller than plane-to-plane ones); on PCL's own parity pairs solving to the minimum changes
 /// the pose by < 0.1 mm (docs/results/gicp.md).
