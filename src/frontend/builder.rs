@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use keylo_core::config::{
     ConfigBuilder, DescriptorParams, DetectorParams, DownsamplerParams, ImageParams, RawConfig,
-    RegistrarParams,
+    RegistrarParams, Trust,
 };
 use keylo_core::{Downsampler, Registrar, Registry};
 use keylo_io::cloud::ProjectionConfig;
@@ -34,6 +34,7 @@ use super::{Error, Frontend};
 pub struct FrontendBuilder {
     config: ConfigBuilder,
     registry: Option<Registry>,
+    trust: Trust,
     projection: ProjectionConfig,
     registrar: Option<Box<dyn Registrar>>,
     downsampler: Option<Box<dyn Downsampler>>,
@@ -56,6 +57,7 @@ impl FrontendBuilder {
         Self {
             config: ConfigBuilder::from_raw(raw),
             registry: None,
+            trust: Trust::Installed,
             projection: ProjectionConfig::default(),
             registrar: None,
             downsampler: None,
@@ -66,6 +68,13 @@ impl FrontendBuilder {
     /// backends to it to name them by kind.
     pub fn registry(mut self, registry: Registry) -> Self {
         self.registry = Some(registry);
+        self
+    }
+
+    /// Whether the libraries the config names itself (`[plugins] dirs`, `onnxruntime`) may be
+    /// loaded (default [`Trust::Installed`]: such a config is refused; docs/plugins.md).
+    pub fn trust(mut self, trust: Trust) -> Self {
+        self.trust = trust;
         self
     }
 
@@ -146,7 +155,7 @@ impl FrontendBuilder {
     pub fn build(self) -> Result<Frontend, Error> {
         let raw = self.config.raw()?;
         let registry = self.registry.unwrap_or_else(crate::registry);
-        let mut odometry = super::odometry_of(&raw, registry)?;
+        let mut odometry = super::odometry_of(&raw, registry, self.trust)?;
         let own_registrar = self.registrar.is_some();
         if let Some(r) = self.registrar {
             odometry.registrar = r;

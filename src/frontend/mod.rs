@@ -56,7 +56,7 @@ mod output;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use keylo_core::config::RawConfig;
+use keylo_core::config::{RawConfig, Trust};
 use keylo_core::registry::parse_params;
 use keylo_core::{BeamGeometry, LidarFrame, Odometry, Pose, Registry};
 use keylo_io::cloud::{ProjectionConfig, Projector, RawCloud, Sensor};
@@ -89,17 +89,35 @@ impl Frontend {
 
     /// A frontend from TOML text (a keylo config file's content); relative paths resolve
     /// against `base_dir`. `[source]` is not built: its `[source.projection]` table (if any)
-    /// says how pushed point clouds become frames.
+    /// says how pushed point clouds become frames. A config naming libraries of its own
+    /// (`[plugins] dirs`, `onnxruntime`) is refused: see [`Frontend::from_toml_trusted`].
     pub fn from_toml(text: &str, base_dir: impl Into<PathBuf>) -> Result<Self, Error> {
-        let mut raw = RawConfig::parse("embedded config", text)?;
-        raw.base_dir = base_dir.into();
-        Self::from_raw(raw, crate::registry())
+        Self::from_toml_with(text, base_dir, Trust::Installed)
     }
 
-    /// A frontend from a parsed config and the registry that resolves its kinds.
+    /// [`Frontend::from_toml`] under `trust`: [`Trust::Config`] also loads the plugin
+    /// libraries found in the config's own `[plugins] dirs` and its `onnxruntime` paths,
+    /// whose load-time code then runs (docs/plugins.md, "Trust").
+    pub fn from_toml_with(
+        text: &str,
+        base_dir: impl Into<PathBuf>,
+        trust: Trust,
+    ) -> Result<Self, Error> {
+        let mut raw = RawConfig::parse("embedded config", text)?;
+        raw.base_dir = base_dir.into();
+        Self::from_raw_with(raw, crate::registry(), trust)
+    }
+
+    /// A frontend from a parsed config and the registry that resolves its kinds; a config
+    /// naming libraries of its own is refused (see [`Frontend::from_raw_with`]).
     pub fn from_raw(raw: RawConfig, registry: Registry) -> Result<Self, Error> {
+        Self::from_raw_with(raw, registry, Trust::Installed)
+    }
+
+    /// [`Frontend::from_raw`] under `trust` (see [`Frontend::from_toml_with`]).
+    pub fn from_raw_with(raw: RawConfig, registry: Registry, trust: Trust) -> Result<Self, Error> {
         let projection = projection_of(&raw)?;
-        let odometry = odometry_of(&raw, registry)?;
+        let odometry = odometry_of(&raw, registry, trust)?;
         let mut frontend = Self::with_odometry(odometry, &projection)?;
         frontend.set_noise_model(noise_of(&raw));
         Ok(frontend)
@@ -289,14 +307,21 @@ impl Frontend {
     }
 }
 
-/// The per-frame stages of `raw` (its `[source]` ignored), plugins loaded when enabled.
-pub(crate) fn odometry_of(raw: &RawConfig, registry: Registry) -> Result<Odometry, Error> {
+/// The per-frame stages of `raw` (its `[source]` ignored), plugins loaded when enabled and
+/// `trust` allows the libraries the config names.
+pub(crate) fn odometry_of(
+    raw: &RawConfig,
+    registry: Registry,
+    trust: Trust,
+) -> Result<Odometry, Error> {
     let mut raw = raw.clone();
     raw.table.remove("source");
     #[allow(unused_mut)] // mutated only with run-time plugins
     let mut registry = registry;
     #[cfg(feature = "plugins")]
-    keylo_plugin::load_for_config(&mut registry, &raw)?;
+    keylo_plugin::load_for_config(&mut registry, &raw, trust)?;
+    #[cfg(not(feature = "plugins"))]
+    keylo_core::config::check_trust(&raw, trust, &[])?;
     let config = registry.resolve(&raw)?;
     Ok(Odometry::build(&config, &registry)?)
 }

@@ -57,7 +57,7 @@ fn finish(registry: &mut Registry, mut raw: RawConfig, sets: &[String]) -> Resul
     for s in sets {
         raw.set(s)?;
     }
-    keylo::plugin::load_for_config(registry, &raw)?;
+    keylo::plugin::load_for_config(registry, &raw, keylo::config::Trust::Config)?;
     Ok(registry.resolve(&raw)?)
 }
 

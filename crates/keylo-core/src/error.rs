@@ -39,6 +39,14 @@ pub enum ConfigError {
     /// A malformed `--set key.path=value` override.
     #[error("--set `{text}`: {message}")]
     Override { text: String, message: String },
+    /// A config naming shared libraries to load, without the caller's opt-in.
+    #[error(
+        "{origin} names code to load: {libraries}. A config's own libraries load only when you \
+         trust it ({opt_in}); plugins installed in KEYLO_PLUGIN_PATH or \
+         ~/.local/lib/keylo/plugins load without it",
+        opt_in = crate::config::TRUST_OPT_IN
+    )]
+    Untrusted { origin: String, libraries: String },
 }
 
 /// A frame or scan whose arrays disagree in length, or hold an index or value out of range;

@@ -9,12 +9,16 @@ mod plugins;
 mod raw;
 mod render;
 mod resolve;
+mod trust;
 mod typed;
 
 pub use output::{OnBadFrame, OutputConfig};
 pub use plugins::PluginsConfig;
 pub use raw::RawConfig;
 pub use render::{allowed_values, render_resolved, resolve_ref, unset_keys};
+pub use trust::{
+    check as check_trust, named_runtimes, NamedLibrary, Trust, OPT_IN as TRUST_OPT_IN,
+};
 pub use typed::{
     ConfigBuilder, DescriptorParams, DetectorParams, DownsamplerParams, ImageParams,
     RegistrarParams, SourceParams, StageParams,

@@ -3,13 +3,15 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use keylo_core::config::{RawConfig, BY_IMAGE_KEY};
+use std::path::PathBuf;
+
+use keylo_core::config::{check_trust, NamedLibrary, RawConfig, Trust, BY_IMAGE_KEY};
 use keylo_core::registry::{BuildContext, Factory};
 use keylo_core::{CoreError, Descriptor, Detector, Downsampler, Registrar, Registry};
 
 use super::instance::{Instance, RegistrarInstance};
 use super::library::{Kind, Plugin, Stage};
-use super::search::SearchPath;
+use super::search::{SearchPath, CONFIG_DIRS};
 use crate::PluginError;
 
 /// The prefix of plugin kinds: `kind = "plugin:NAME"`.
@@ -128,22 +130,47 @@ pub fn search_path(raw: &RawConfig) -> Result<SearchPath, PluginError> {
 
 /// Finds, loads and registers every plugin `raw` names, checking that each offers the stage
 /// that names it. Returns the plugins loaded.
+///
+/// Under [`Trust::Installed`] a config whose plugins would come from its own `[plugins] dirs`,
+/// or that names an `onnxruntime` library, is refused before anything is loaded
+/// (see [`keylo_core::config::check_trust`]). Each library loaded is logged with its path.
 pub fn load_for_config(
     registry: &mut Registry,
     raw: &RawConfig,
+    trust: Trust,
 ) -> Result<Vec<Arc<Plugin>>, PluginError> {
     let wanted = referenced(raw);
-    if wanted.is_empty() {
-        return Ok(Vec::new());
-    }
     let search = search_path(raw)?;
+    // Every file first: nothing is loaded unless all may be.
+    let mut files: BTreeMap<String, PathBuf> = BTreeMap::new();
+    let mut named = Vec::new();
+    for (_, name) in &wanted {
+        if files.contains_key(name) {
+            continue;
+        }
+        let (path, from) = search.find_with_origin(name)?;
+        if from == CONFIG_DIRS {
+            named.push(NamedLibrary {
+                key: CONFIG_DIRS.into(),
+                path: path.clone(),
+            });
+        }
+        files.insert(name.clone(), path);
+    }
+    check_trust(raw, trust, &named)?;
     let mut loaded: BTreeMap<String, Arc<Plugin>> = BTreeMap::new();
     for (section, name) in wanted {
         let plugin = match loaded.get(&name) {
             Some(p) => p.clone(),
             None => {
-                let path = search.find(&name)?;
+                let path = files[&name].clone();
                 let plugin = Plugin::open(&path)?;
+                tracing::info!(
+                    "loaded plugin {} {} from {}",
+                    plugin.name,
+                    plugin.version,
+                    path.display()
+                );
                 if plugin.name != name {
                     return Err(PluginError::NameMismatch {
                         path,

@@ -8,6 +8,9 @@ use crate::PluginError;
 /// The environment variable holding extra plugin folders (`:`-separated on Unix).
 pub const PLUGIN_PATH_ENV: &str = "KEYLO_PLUGIN_PATH";
 
+/// Where a folder named by a config's `[plugins] dirs` came from.
+pub const CONFIG_DIRS: &str = "[plugins] dirs";
+
 /// The default install folder below the home directory.
 pub const DEFAULT_DIR: &str = ".local/lib/keylo/plugins";
 
@@ -22,7 +25,7 @@ impl SearchPath {
     pub fn new(config_dirs: &[PathBuf]) -> Self {
         let mut dirs: Vec<(PathBuf, &'static str)> = config_dirs
             .iter()
-            .map(|d| (d.clone(), "[plugins] dirs"))
+            .map(|d| (d.clone(), CONFIG_DIRS))
             .collect();
         if let Some(v) = std::env::var_os(PLUGIN_PATH_ENV) {
             dirs.extend(
@@ -39,12 +42,18 @@ impl SearchPath {
 
     /// The library file of plugin `name`: the first folder holding one of [`file_names`].
     pub fn find(&self, name: &str) -> Result<PathBuf, PluginError> {
+        self.find_with_origin(name).map(|(path, _)| path)
+    }
+
+    /// [`SearchPath::find`] with where the folder came from (`[plugins] dirs`,
+    /// `KEYLO_PLUGIN_PATH`, `default`).
+    pub fn find_with_origin(&self, name: &str) -> Result<(PathBuf, &'static str), PluginError> {
         let files = file_names(name);
-        for (dir, _) in &self.dirs {
+        for (dir, from) in &self.dirs {
             for f in &files {
                 let path = dir.join(f);
                 if path.is_file() {
-                    return Ok(path);
+                    return Ok((path, from));
                 }
             }
         }
