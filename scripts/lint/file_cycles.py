@@ -156,7 +156,8 @@ def cycles(graph):
 
 
 def main(argv):
-    srcs = [pathlib.Path(a) for a in argv] or sorted(ROOT.glob("crates/*/src")) + [ROOT / "src"]
+    srcs = [pathlib.Path(a) for a in argv] or (
+        sorted(ROOT.glob("crates/*/src")) + sorted(ROOT.glob("plugins/*/src")) + [ROOT / "src"])
     found = 0
     for src in srcs:
         mods = modules(src)

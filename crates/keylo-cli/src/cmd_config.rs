@@ -8,8 +8,10 @@ use keylo::config::{
 use keylo::Registry;
 use serde_json::Value;
 
-use crate::args::ConfigCommand;
+use std::path::PathBuf;
+
 use crate::configs;
+use clap::Subcommand;
 
 pub fn run(cmd: ConfigCommand) -> Result<ExitCode> {
     let mut registry = keylo::registry();
@@ -161,4 +163,20 @@ fn param_rows(out: &mut String, prefix: &str, node: &Value, root: &Value, defaul
             .replace('\n', " ");
         let _ = writeln!(out, "| `{prefix}{key}` | (unset) | {doc} |");
     }
+}
+
+#[derive(Debug, Subcommand)]
+pub enum ConfigCommand {
+    /// Print a config with every default filled in and every key documented.
+    Show {
+        /// Config file (default: the built-in demo config).
+        file: Option<PathBuf>,
+        /// Override a value (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+    },
+    /// List the registered backends of every stage.
+    Kinds,
+    /// Print the Markdown config reference (docs/config.md is generated with this).
+    Docs,
 }

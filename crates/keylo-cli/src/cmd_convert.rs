@@ -13,7 +13,9 @@ use keylo::io::frames::FramesWriter;
 use keylo::io::kitti_bin::write_kitti_bin_points;
 use keylo::LidarFrame;
 
-use crate::args::{ConvertArgs, ConvertFormat};
+use clap::{Args, ValueEnum};
+
+use crate::arg_groups::DataArgs;
 use crate::{configs, EXIT_FRAME_FAILED};
 
 pub fn run(args: ConvertArgs, quiet: bool) -> Result<ExitCode> {
@@ -135,4 +137,33 @@ impl Writer<'_> {
         let times = path.join("times.txt");
         std::fs::write(&times, &self.times).with_context(|| format!("writing {}", times.display()))
     }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ConvertFormat {
+    /// KITTI velodyne .bin: x y z + one channel (float32), in velodyne/.
+    KittiBin,
+    /// Binary little-endian PLY, one file per frame.
+    Ply,
+    /// Binary PCD v0.7, one file per frame.
+    Pcd,
+    /// keylo frame folder (every channel, the organised grid).
+    Frames,
+}
+
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// Output format.
+    #[arg(long, value_enum)]
+    pub format: ConvertFormat,
+    /// Output folder.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Per-point values besides x y z: signal, reflectivity, near-ir, range, ring, time
+    /// (comma separated). PLY/PCD default: signal,reflectivity,near-ir,range,ring,time;
+    /// KITTI .bin takes exactly one (default signal).
+    #[arg(long, value_delimiter = ',')]
+    pub channels: Vec<String>,
 }

@@ -8,8 +8,10 @@ use keylo::eval::coverage::{of_evaluation, range_text, Coverage, EvalDocument};
 use keylo::eval::rpe::{rpe, Delta, RpeOptions};
 use keylo::eval::{evaluate, EvalOptions};
 
-use crate::args::{DeltaUnit, EvalArgs};
+use std::path::PathBuf;
+
 use crate::{reference_args, trajectories};
+use clap::{Args, ValueEnum};
 
 pub fn run(args: EvalArgs) -> Result<ExitCode> {
     let delta = parse_delta(&args)?;
@@ -143,4 +145,33 @@ fn print_delta_rpe(
         r.rotation_deg.rmse
     );
     Ok(())
+}
+
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    /// Estimated trajectory (TUM or KITTI).
+    #[arg(long)]
+    pub est: PathBuf,
+    /// Reference trajectory (TUM or KITTI).
+    #[arg(long)]
+    pub gt: PathBuf,
+    #[command(flatten)]
+    pub reference: crate::reference_args::ReferenceArgs,
+    /// Also print the result as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// An extra RPE over this delta (as `evo_rpe --delta`), e.g. `--delta 10 --delta-unit m`.
+    #[arg(long)]
+    pub delta: Option<f64>,
+    /// Unit of --delta.
+    #[arg(long, value_enum, default_value_t = DeltaUnit::Frames)]
+    pub delta_unit: DeltaUnit,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DeltaUnit {
+    /// Pairs `delta` frames apart.
+    Frames,
+    /// Pairs `delta` metres of reference path apart.
+    M,
 }

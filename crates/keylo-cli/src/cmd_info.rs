@@ -9,7 +9,11 @@ use keylo::io::export::png_image::write_channel_png;
 use keylo::{Channel, GridOccupancy, LidarFrame};
 use serde::Serialize;
 
-use crate::args::InfoArgs;
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::arg_groups::DataArgs;
 use crate::{configs, EXIT_FRAME_FAILED};
 
 /// What `keylo info` reports.
@@ -196,4 +200,24 @@ fn print_text(info: &Info) {
     for p in &info.images_written {
         row("wrote", p.clone());
     }
+}
+
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// Write the channel images of frame N (0-based) as PNG into --out.
+    #[arg(long, value_name = "N", requires = "out")]
+    pub image: Option<usize>,
+    /// Folder for the PNG images of --image.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// With --image: run this pipeline config's stages on frame N and draw, as `keylo run
+    /// --images` does, each detector image with its keypoints and the pixels whose points
+    /// are registered, and a top view of the raw and registered points.
+    #[arg(long, requires = "image")]
+    pub config: Option<PathBuf>,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
 }

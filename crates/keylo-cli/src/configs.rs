@@ -104,7 +104,7 @@ fn apply_meta(raw: &mut RawConfig, meta: &Path) -> Result<()> {
 /// and overrides; also returns the source kind.
 pub fn open_data(
     registry: &mut Registry,
-    data: &crate::args::DataArgs,
+    data: &crate::arg_groups::DataArgs,
 ) -> Result<(String, Box<dyn keylo::ImageSource>)> {
     let config = load(
         registry,

@@ -1,5 +1,6 @@
 //! `keylo`: keypoint-assisted LiDAR odometry from the command line.
 
+mod arg_groups;
 mod args;
 mod atomic;
 mod cloud_ply;
@@ -29,7 +30,6 @@ mod report_page;
 mod resources;
 #[cfg(feature = "ros2")]
 mod ros2_map;
-mod run_accuracy;
 mod shard;
 mod trajectories;
 

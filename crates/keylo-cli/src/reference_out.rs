@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use keylo::eval::align::align_trajectory;
+use keylo::eval::align_roll::align_trajectory;
 use keylo::eval::associate::{associate, AssociateOptions};
 use keylo::Trajectory;
 

@@ -220,23 +220,6 @@ pub fn positions(traj: &Trajectory) -> Vec<Point3<f64>> {
         .collect()
 }
 
-/// Umeyama alignment of `estimate`'s positions onto `reference`'s (pose-for-pose paired),
-/// as evo's `traj_est.align(traj_ref)`; apply it with [`Alignment::apply_trajectory`].
-///
-/// One difference from evo: when the positions leave the rotation about the path's main
-/// axis undetermined (a straight or nearly straight path), that rotation is taken from the
-/// orientations instead of from the positions' noise ([`crate::align_roll`]), and
-/// [`Alignment::roll_from_orientations`] says so. Wherever the positions determine the
-/// rotation the result is evo's.
-pub fn align_trajectory(
-    estimate: &Trajectory,
-    reference: &Trajectory,
-    with_scale: bool,
-) -> Result<Alignment, EvalError> {
-    let fit = Fit::new(&positions(estimate), &positions(reference), with_scale)?;
-    crate::align_roll::resolve(&fit, estimate, reference)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -21,7 +21,7 @@
 use keylo_core::Trajectory;
 use nalgebra::{Matrix3, Unit, UnitQuaternion, Vector3};
 
-use crate::align::{Alignment, Fit};
+use crate::align::{positions, Alignment, Fit};
 use crate::EvalError;
 
 /// Above this standard error of the roll left by the positions (degrees), the roll comes
@@ -85,6 +85,23 @@ fn orientation_roll(
         + a.y * (m[(2, 0)] - m[(0, 2)])
         + a.z * (m[(0, 1)] - m[(1, 0)]);
     sin_part.atan2(cos_part)
+}
+
+/// Umeyama alignment of `estimate`'s positions onto `reference`'s (pose-for-pose paired),
+/// as evo's `traj_est.align(traj_ref)`; apply it with [`Alignment::apply_trajectory`].
+///
+/// One difference from evo: when the positions leave the rotation about the path's main
+/// axis undetermined (a straight or nearly straight path), that rotation is taken from the
+/// orientations instead of from the positions' noise (this module), and
+/// [`Alignment::roll_from_orientations`] says so. Wherever the positions determine the
+/// rotation the result is evo's.
+pub fn align_trajectory(
+    estimate: &Trajectory,
+    reference: &Trajectory,
+    with_scale: bool,
+) -> Result<Alignment, EvalError> {
+    let fit = Fit::new(&positions(estimate), &positions(reference), with_scale)?;
+    resolve(&fit, estimate, reference)
 }
 
 #[cfg(test)]

@@ -2,7 +2,8 @@
 
 use keylo_core::Trajectory;
 
-use crate::align::{align_trajectory, Alignment};
+use crate::align::Alignment;
+use crate::align_roll::align_trajectory;
 use crate::associate::Associated;
 use crate::pose_error::{relative, PoseRelation};
 use crate::stats::Stats;

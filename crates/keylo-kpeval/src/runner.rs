@@ -122,7 +122,7 @@ pub(crate) fn run_group(
 ) -> GroupOutcome {
     let mut state = GroupState::new(&group);
     let mut rows = Vec::new();
-    let interpolation = crate::sweep::interpolation_name(spec.image.interpolation);
+    let interpolation = crate::spec::interpolation_name(spec.image.interpolation);
     let channel = spec.image.channel().unwrap_or(keylo_core::Channel::Signal);
     for (local, plane) in planes.iter().enumerate() {
         let index = first_index + local;

@@ -151,6 +151,27 @@ fn paper_params(kind: &str, width: usize, height: usize) -> toml::Table {
     t
 }
 
+/// The kebab-case name of an interpolation (`lanczos4`).
+pub fn interpolation_name(i: Interpolation) -> String {
+    serde_json::to_value(i)
+        .ok()
+        .and_then(|v| v.as_str().map(String::from))
+        .unwrap_or_default()
+}
+
+/// An interpolation by name.
+pub fn parse_interpolation(name: &str) -> Result<Interpolation, KpEvalError> {
+    serde_json::from_value(serde_json::Value::String(name.trim().to_ascii_lowercase())).map_err(
+        |_| {
+            KpEvalError::setting(
+                "sweep",
+                "interpolations",
+                format!("`{name}`: expected nearest, linear, cubic, area or lanczos4"),
+            )
+        },
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -13,6 +13,8 @@ use keylo_features::image::Interpolation;
 use rayon::prelude::*;
 use serde::Serialize;
 
+pub use crate::spec::{interpolation_name, parse_interpolation};
+
 use crate::runner::run_group;
 use crate::stages::{build_groups, Skipped};
 use crate::{summarise, Combo, EvalSpec, KpEvalError, Plane, METRICS};
@@ -25,27 +27,6 @@ pub const INTERPOLATIONS: [Interpolation; 5] = [
     Interpolation::Nearest,
     Interpolation::Linear,
 ];
-
-/// The kebab-case name of an interpolation (`lanczos4`).
-pub fn interpolation_name(i: Interpolation) -> String {
-    serde_json::to_value(i)
-        .ok()
-        .and_then(|v| v.as_str().map(String::from))
-        .unwrap_or_default()
-}
-
-/// An interpolation by name.
-pub fn parse_interpolation(name: &str) -> Result<Interpolation, KpEvalError> {
-    serde_json::from_value(serde_json::Value::String(name.trim().to_ascii_lowercase())).map_err(
-        |_| {
-            KpEvalError::setting(
-                "sweep",
-                "interpolations",
-                format!("`{name}`: expected nearest, linear, cubic, area or lanczos4"),
-            )
-        },
-    )
-}
 
 /// Sizes from `MIN:MAX:STEP` or a comma-separated list; `what` names the option in errors.
 pub fn parse_sizes(spec: &str, what: &str) -> Result<Vec<usize>, KpEvalError> {

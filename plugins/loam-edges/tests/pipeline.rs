@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use keylo::config::RawConfig;
+use keylo::config::{RawConfig, Trust};
 use keylo::Pipeline;
 
 /// Where cargo put `libloam_edges.so` (beside this test binary).
@@ -27,7 +27,12 @@ fn example_config_runs_with_the_built_plugin() {
     raw.set(&format!("plugins.dirs=[\"{}\"]", plugin_dir().display()))
         .unwrap();
     let mut registry = keylo::registry();
-    let loaded = keylo::plugin::load_for_config(&mut registry, &raw).unwrap();
+    // The library is in a folder the config names: refused until the config is trusted.
+    let refused = keylo::plugin::load_for_config(&mut registry, &raw, Trust::Installed)
+        .unwrap_err()
+        .to_string();
+    assert!(refused.contains("--trust-plugins"), "{refused}");
+    let loaded = keylo::plugin::load_for_config(&mut registry, &raw, Trust::Config).unwrap();
     assert_eq!(loaded.len(), 1);
     assert_eq!(loaded[0].name, "loam-edges");
     assert_eq!(loaded[0].version, env!("CARGO_PKG_VERSION"));

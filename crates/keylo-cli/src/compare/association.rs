@@ -6,7 +6,7 @@ use keylo::eval::associate::AssociateOptions;
 use keylo::eval::coverage::{of_pairing, Coverage};
 use keylo::Trajectory;
 
-use super::metrics::{Criterion, Row};
+use super::row::{Criterion, Row};
 use super::schedule::Planned;
 
 /// Fills the row's `associated`, `association` and `association_warning` for `est` paired

@@ -8,6 +8,7 @@
 //! * [`tables`]: Markdown, CSV, JSON.
 //! * [`plots`]: PNG + SVG figures.
 
+mod args;
 mod association;
 mod budget;
 mod child;
@@ -15,6 +16,7 @@ mod error;
 mod grid;
 mod metrics;
 pub(crate) mod plots;
+mod row;
 mod schedule;
 mod sharded;
 mod tables;
@@ -24,10 +26,11 @@ use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
 
-use crate::args::{CompareArgs, CompareCommand};
 use crate::configs;
+pub use args::{CompareArgs, CompareCommand};
 use error::CompareError;
-use metrics::{Criterion, Row, Series};
+use metrics::Series;
+use row::{Criterion, Row};
 use schedule::Planned;
 
 pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {

@@ -10,9 +10,9 @@ use anyhow::{Context, Result};
 use keylo::config::PipelineConfig;
 use serde_json::{json, Value};
 
-use super::metrics::Criterion;
+use super::row::Criterion;
 use super::schedule::{is_done, Outcome, Planned};
-use crate::args::MergeArgs;
+use crate::arg_groups::MergeArgs;
 use crate::shard::manifest::Manifest;
 use crate::shard::{self, merge, Shard, ShardError};
 

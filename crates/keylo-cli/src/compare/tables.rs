@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use serde_json::Value;
 
 use super::association;
-use super::metrics::{describe, Criterion, Row};
+use super::row::{describe, Criterion, Row};
 
 /// Columns of the full table: (JSON/CSV field, Markdown header, decimals).
 const COLUMNS: [(&str, &str, usize); 26] = [

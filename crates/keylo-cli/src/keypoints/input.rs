@@ -6,7 +6,7 @@ use anyhow::{bail, Context, Result};
 use keylo::kpeval::{EvalSpec, Plane};
 
 use super::InputArgs;
-use crate::args::DataArgs;
+use crate::arg_groups::DataArgs;
 use crate::configs;
 
 /// The evaluation spec: `--config` (or the defaults) with `--channel` on top.

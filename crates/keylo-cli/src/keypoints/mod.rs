@@ -3,6 +3,7 @@
 //! and writes tables and plots).
 
 pub(crate) mod eval;
+mod eval_report;
 pub(crate) mod input;
 mod pictures;
 mod plots;
@@ -10,6 +11,7 @@ mod reference;
 mod report;
 mod shards;
 mod sweep;
+mod sweep_report;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -95,7 +97,7 @@ impl InputArgs {
 pub enum ShardCommand {
     /// Join the folders of every shard of one `--shard I/N` study into the tables and plots
     /// one process would have written.
-    Merge(crate::args::MergeArgs),
+    Merge(crate::arg_groups::MergeArgs),
 }
 
 #[derive(Debug, Args)]

@@ -19,10 +19,10 @@ use keylo::BuildContext;
 use serde_json::{json, Value};
 use sha2::{Digest, Sha256};
 
-use super::eval::{write_report, EvalReport};
+use super::eval_report::{write_report, EvalReport};
 use super::input::Prepared;
 use super::report::PaperFigures;
-use crate::args::MergeArgs;
+use crate::arg_groups::MergeArgs;
 use crate::shard::manifest::Manifest;
 use crate::shard::{merge, partition, Shard, ShardError};
 use crate::EXIT_FRAME_FAILED;
@@ -363,9 +363,9 @@ pub fn sweep_merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     joined.write_note(&args.out)?;
-    super::sweep::write_report(
+    super::sweep_report::write_report(
         &args.out,
-        &super::sweep::SweepReport {
+        &super::sweep_report::SweepReport {
             grid: &grid,
             spec: &spec,
             images,

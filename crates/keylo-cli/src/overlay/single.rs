@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use keylo::{LidarFrame, Odometry};
 
 use super::FrameOverlay;
-use crate::args::DataArgs;
+use crate::arg_groups::DataArgs;
 
 /// The per-frame stages of a config, for picturing one frame.
 pub struct Single {

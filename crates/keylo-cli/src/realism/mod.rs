@@ -93,7 +93,7 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     }
     let jobs = crate::keypoints::input::jobs(args.jobs, threads)?;
     let mut inputs: Vec<(String, Vec<Vec<Plane>>)> = vec![("real".into(), vec![real])];
-    let config = crate::cmd_sim::sim_config(&args.scene, args.frames, &args.sets)?;
+    let config = crate::cmd_sim::setup::sim_config(&args.scene, args.frames, &args.sets)?;
     for k in 0..args.seeds {
         let seeded = SimConfig {
             seed: config.seed + k as u64,

@@ -15,7 +15,9 @@ use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
 
-use crate::args::ReportArgs;
+use std::path::PathBuf;
+
+use clap::Args;
 use run_parts::Limits;
 
 pub fn run(args: ReportArgs, quiet: bool) -> Result<ExitCode> {
@@ -50,4 +52,20 @@ pub fn run(args: ReportArgs, quiet: bool) -> Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// A run folder (`keylo run --out DIR`) or a compare folder (`keylo compare --out DIR`).
+    pub dir: PathBuf,
+    /// The page to write (default: DIR/report.html).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Points per 3-D layer at most: larger clouds are thinned (one point in k) and the page
+    /// says so.
+    #[arg(long, default_value_t = 150_000, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    pub max_points: usize,
+    /// Pictured frames (`keylo run --images`) shown at most, spread over the run.
+    #[arg(long, default_value_t = 8, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    pub max_pictures: usize,
 }

@@ -10,7 +10,7 @@ mod feature;
 mod gftt;
 mod orb;
 mod sift;
-mod surf;
+pub(crate) mod surf;
 
 pub use akaze::{AkazeDescriptor, AkazeParams, Diffusivity, KazeParams};
 pub use akaze_sized::AkazeFeature;

@@ -13,6 +13,7 @@
 
 mod hooks;
 mod inputs;
+mod kinds;
 mod shims;
 
 use std::ffi::{c_char, CString};
@@ -22,7 +23,7 @@ use serde::de::DeserializeOwned;
 use crate::abi::*;
 
 pub use inputs::{features_from_abi, frame_from_abi, image_from_abi, scan_from_abi};
-pub use shims::{descriptor, detector, downsampler, registrar};
+pub use kinds::{descriptor, detector, downsampler, registrar};
 
 /// How a plugin backend is made from its config table.
 pub trait FromConfig: Sized + Send + 'static {

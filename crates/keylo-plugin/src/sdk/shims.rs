@@ -7,7 +7,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use keylo_core::registry::parse_params;
 use keylo_core::{Descriptor, Detector, Downsampler, Registrar};
 
-use super::{blank_kind, FromConfig, KindSpec};
+use super::{blank_kind, FromConfig};
 use crate::abi::*;
 use crate::convert;
 
@@ -125,7 +125,7 @@ unsafe extern "C" fn destroy<T: FromConfig>(state: *mut c_void) {
     }));
 }
 
-fn common<T: FromConfig>(stage: u32) -> KeyloPluginKind {
+pub(super) fn common<T: FromConfig>(stage: u32) -> KeyloPluginKind {
     let mut kind = blank_kind(stage);
     kind.create = Some(create::<T>);
     kind.configure = Some(configure::<T>);
@@ -133,7 +133,7 @@ fn common<T: FromConfig>(stage: u32) -> KeyloPluginKind {
     kind
 }
 
-unsafe extern "C" fn detect<T: FromConfig + Detector>(
+pub(super) unsafe extern "C" fn detect<T: FromConfig + Detector>(
     state: *mut c_void,
     image: *const KeyloImage,
     out: *mut KeyloKeypoints,
@@ -152,7 +152,7 @@ unsafe extern "C" fn detect<T: FromConfig + Detector>(
     })
 }
 
-unsafe extern "C" fn describe<T: FromConfig + Descriptor>(
+pub(super) unsafe extern "C" fn describe<T: FromConfig + Descriptor>(
     state: *mut c_void,
     image: *const KeyloImage,
     keypoints: *const KeyloKeypoints,
@@ -181,7 +181,7 @@ unsafe extern "C" fn describe<T: FromConfig + Descriptor>(
     })
 }
 
-unsafe extern "C" fn downsample<T: FromConfig + Downsampler>(
+pub(super) unsafe extern "C" fn downsample<T: FromConfig + Downsampler>(
     state: *mut c_void,
     frame: *const KeyloFrame,
     features: *const KeyloFeatures,
@@ -205,7 +205,7 @@ unsafe extern "C" fn downsample<T: FromConfig + Downsampler>(
     })
 }
 
-unsafe extern "C" fn register_cloud<T: FromConfig + Registrar>(
+pub(super) unsafe extern "C" fn register_cloud<T: FromConfig + Registrar>(
     state: *mut c_void,
     cloud: *const KeyloCloud,
     out: *mut KeyloRegistration,
@@ -223,45 +223,4 @@ unsafe extern "C" fn register_cloud<T: FromConfig + Registrar>(
         *out = convert::registration_to_abi(&reg, registrar.map_size());
         Ok(())
     })
-}
-
-/// The kind of a detector backend `T` (used by `export_plugin!`).
-pub fn detector<T: FromConfig + Detector>(summary: &str) -> KindSpec {
-    let mut kind = common::<T>(KEYLO_STAGE_DETECTOR);
-    kind.detect = Some(detect::<T>);
-    KindSpec {
-        kind,
-        summary: summary.into(),
-    }
-}
-
-/// The kind of a descriptor backend `T` (used by `export_plugin!`).
-pub fn descriptor<T: FromConfig + Descriptor>(summary: &str) -> KindSpec {
-    let mut kind = common::<T>(KEYLO_STAGE_DESCRIPTOR);
-    kind.describe = Some(describe::<T>);
-    KindSpec {
-        kind,
-        summary: summary.into(),
-    }
-}
-
-/// The kind of a downsampler backend `T` (used by `export_plugin!`).
-pub fn downsampler<T: FromConfig + Downsampler>(summary: &str) -> KindSpec {
-    let mut kind = common::<T>(KEYLO_STAGE_DOWNSAMPLER);
-    kind.downsample = Some(downsample::<T>);
-    KindSpec {
-        kind,
-        summary: summary.into(),
-    }
-}
-
-/// The kind of a registrar backend `T` (used by `export_plugin!`).
-pub fn registrar<T: FromConfig + Registrar>(summary: &str) -> KindSpec {
-    let mut kind = common::<T>(KEYLO_STAGE_REGISTRAR);
-    kind.register_cloud = Some(register_cloud::<T>);
-    super::hooks::fill::<T>(&mut kind);
-    KindSpec {
-        kind,
-        summary: summary.into(),
-    }
 }

@@ -3,7 +3,7 @@
 
 use rand::Rng;
 
-use super::lab::{slab, Room};
+use super::shapes::{slab, Room};
 use super::SceneBuilder;
 use crate::texture::{Material, Pattern};
 use crate::world::Object;

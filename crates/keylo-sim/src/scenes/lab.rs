@@ -4,19 +4,12 @@
 
 use rand::Rng;
 
+use super::shapes::{slab, Room};
 use super::{hall, indoor_light, Ambient, SceneBuilder};
 use crate::motion::{Curve, Motion, Sway};
-use crate::texture::{Material, Pattern};
+use crate::texture::Pattern;
 use crate::world::Object;
 use crate::Appearance;
-
-/// A room's half extents (x, y) and its height, metres.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Room {
-    pub half_x: f32,
-    pub half_y: f32,
-    pub height: f32,
-}
 
 /// The `ideal` lab.
 const ROOM: Room = Room {
@@ -205,12 +198,6 @@ fn centre(b: &mut SceneBuilder, top: f32) {
     table(b, 0.0, ty, 1.0, 0.7);
     let m = b.material(Pattern::Tiles { cell: 0.12 }, 0.3, 0.7);
     b.prop(Object::cylinder([-2.3, 0.6, 0.0], 0.3, 0.9, m));
-}
-
-/// A box with footprint centre `c`, half extents `half` and vertical span `z`.
-pub(super) fn slab(c: [f32; 2], half: [f32; 2], z: (f32, f32), m: Material) -> Object {
-    let lo = [c[0] - half[0], c[1] - half[1], z.0];
-    Object::aabb_box(lo, [c[0] + half[0], c[1] + half[1], z.1], m)
 }
 
 /// A shelf unit centred at `(cx, cy)` with footprint `wx × wy`, sides on the short ends,

@@ -7,6 +7,7 @@ mod lab;
 mod park;
 mod path_frame;
 mod road;
+mod shapes;
 
 use parry3d::math::Vector as GVec;
 

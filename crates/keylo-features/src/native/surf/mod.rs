@@ -19,7 +19,7 @@ use keylo_core::{CoreError, DescriptorData, Descriptors, Detector, Image, Keypoi
 use super::input::one_plane;
 use super::input::Plane;
 use super::Integral;
-use crate::classic::SurfParams;
+use crate::classic::surf::SurfParams;
 use crate::FeaturesError;
 use descriptor::Describer;
 use orientation::Disc;

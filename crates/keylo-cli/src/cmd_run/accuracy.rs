@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use keylo::config::PipelineConfig;
 use keylo::Trajectory;
 
-use crate::args::RunArgs;
+use super::args::RunArgs;
 use crate::report::Summary;
 use crate::trajectories;
 

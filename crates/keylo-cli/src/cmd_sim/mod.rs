@@ -5,14 +5,16 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use indicatif::ProgressBar;
-use keylo::config::RawConfig;
-use keylo::core::registry::parse_params;
 use keylo::io::frames::FramesWriter;
 use keylo::io::kitti_bin::write_kitti_bin;
-use keylo::sim::{SimConfig, Simulator};
+use keylo::sim::Simulator;
 use keylo::Trajectory;
 
-use crate::args::{SimArgs, SimCommand, SimFormat};
+mod args;
+pub mod setup;
+
+pub use args::{SimArgs, SimCommand, SimFormat};
+use setup::sim_config;
 
 pub fn run(args: SimArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
     if let Some(SimCommand::Realism(r)) = args.command {
@@ -51,18 +53,6 @@ pub fn run(args: SimArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCod
         println!("wrote {} frames and gt.tum to {}", sim.len(), out.display());
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// The simulator's parameters: `scene`, `frames` and `KEY=VALUE` settings on the defaults.
-pub fn sim_config(scene: &str, frames: usize, sets: &[String]) -> Result<SimConfig> {
-    let mut raw = RawConfig::builtin();
-    raw.set(&format!("scene={scene}"))?;
-    raw.set(&format!("frames={frames}"))?;
-    for s in sets {
-        raw.set(s)?;
-    }
-    parse_params::<SimConfig>(&raw.table)
-        .map_err(|(path, msg)| anyhow::anyhow!("simulator parameter `{path}`: {msg}"))
 }
 
 fn args_line(args: &SimArgs) -> String {

@@ -1,5 +1,8 @@
 //! `keylo run`: build the pipeline from a config, run every frame, write and print results.
 
+mod accuracy;
+mod args;
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -12,12 +15,12 @@ use keylo::map::covariance::NoiseModel;
 use keylo::map::{MapBuilder, PoseGraph};
 use keylo::{CoreError, ImageSource, Paced, Pipeline, Prefetched, Trajectory};
 
-use crate::args::RunArgs;
+pub use args::RunArgs;
+
 use crate::degeneracy_out::{self, DegeneracyRow};
 use crate::journal::Journal;
 use crate::overlay::Pictures;
 use crate::report::{self, Failure, Summary, Totals};
-use crate::run_accuracy;
 use crate::{configs, resources, trajectories, EXIT_FRAME_FAILED, EXIT_INTERRUPTED};
 
 pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
@@ -30,7 +33,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         &args.sets,
     )?;
     // A ground-truth file named by the user must be readable before any work starts.
-    let gt_given = run_accuracy::reference_file(&args, &config)?;
+    let gt_given = accuracy::reference_file(&args, &config)?;
     // `[map]` (the map's settings, and the pose graph's keyframes) is checked before any work.
     let map_settings = match args.map_out.is_some() || config.output.pose_graph {
         true => Some(keylo::map::MapConfig::from_table(
@@ -141,7 +144,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             "the source's ground truth",
         ))
     });
-    run_accuracy::add_accuracy(&mut summary, &outcome.trajectory, gt, &out, map);
+    accuracy::add_accuracy(&mut summary, &outcome.trajectory, gt, &out, map);
     // The map is for pictures: failing to write it must not lose the run's figures.
     if let Err(e) = write_map(&out, &pipeline.odometry) {
         tracing::warn!("no map.ply: {e:#}");
