@@ -36,6 +36,12 @@
 // error text is not changed). A pipeline is used by one thread at a time.
 #define KEYLO_CAPI_BUSY -2
 
+// `keylo_pipeline_new_with_flags`: load the libraries the config names itself (plugins in
+// its `[plugins] dirs`, an `onnxruntime` path), whose code then runs. Without it such a
+// config is refused; plugins installed in KEYLO_PLUGIN_PATH or ~/.local/lib/keylo/plugins
+// load either way (docs/plugins.md, "Trust").
+#define KEYLO_TRUST_PLUGINS 1
+
 // `keylo_pipeline_degeneracy` / `keylo_pipeline_covariance`: the last frame has no
 // degeneracy analysis (or, for the covariance, an unconstrained direction).
 #define KEYLO_CAPI_NOT_ANALYSED 1
@@ -154,7 +160,9 @@ const char *keylo_version(void);
 // A pipeline from a TOML config (the format of `keylo run` configs; `[source]` is not used
 // except `[source.projection]` for `keylo_pipeline_push_points`). Relative paths resolve
 // against `base_dir` (NULL: the current folder). On failure: NULL, and the message is written
-// to `error` (`error_len` bytes, NUL-terminated) when it is not NULL.
+// to `error` (`error_len` bytes, NUL-terminated) when it is not NULL. A config naming
+// libraries of its own (`[plugins] dirs`, `onnxruntime`) is refused: see
+// `keylo_pipeline_new_with_flags`.
 //
 // # Safety
 // `toml` and `base_dir` must be NULL or NUL-terminated; `error` must have `error_len`
@@ -163,6 +171,18 @@ struct KeyloPipeline *keylo_pipeline_new(const char *toml,
                                          const char *base_dir,
                                          char *error,
                                          size_t error_len);
+
+// `keylo_pipeline_new` with `flags`: 0, or `KEYLO_TRUST_PLUGINS` to load the libraries the
+// config names itself (their code runs; only for configs you trust). Unknown bits are an
+// error.
+//
+// # Safety
+// As `keylo_pipeline_new`.
+struct KeyloPipeline *keylo_pipeline_new_with_flags(const char *toml,
+                                                    const char *base_dir,
+                                                    uint32_t flags,
+                                                    char *error,
+                                                    size_t error_len);
 
 // Why the last call on `p` failed ("" after a success); for a NULL, freed or unknown handle,
 // why it is refused. Valid until the next call on `p`.

@@ -16,10 +16,15 @@ pub struct Embedded {
 }
 
 impl Embedded {
-    /// A pipeline from TOML `text`; relative paths resolve against `base_dir`.
-    pub fn new(text: &str, base_dir: &std::path::Path) -> Result<Self, CapiError> {
+    /// A pipeline from TOML `text`; relative paths resolve against `base_dir`; `trust` says
+    /// whether the libraries the config names itself may be loaded.
+    pub fn new(
+        text: &str,
+        base_dir: &std::path::Path,
+        trust: keylo::config::Trust,
+    ) -> Result<Self, CapiError> {
         Ok(Self {
-            frontend: Frontend::from_toml(text, base_dir)?,
+            frontend: Frontend::from_toml_with(text, base_dir, trust)?,
             world_cloud: Vec::new(),
             local_map: Vec::new(),
         })

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use keylo::config::Trust;
 
 /// The data a command reads: a path whose kind is detected, its metadata, overrides.
 #[derive(Debug, Args)]
@@ -28,4 +29,26 @@ pub struct MergeArgs {
     /// No plots.
     #[arg(long)]
     pub no_plots: bool,
+}
+
+/// `--trust-plugins`: whether the libraries a config names itself may be loaded.
+#[derive(Debug, Clone, Copy, Default, Args)]
+pub struct TrustArgs {
+    /// Load the libraries the config names itself (plugins in its `[plugins] dirs`, an
+    /// `onnxruntime` path): their code runs. Without it such a config is refused before
+    /// anything is loaded; plugins installed in KEYLO_PLUGIN_PATH or
+    /// ~/.local/lib/keylo/plugins load either way (docs/plugins.md, "Trust").
+    #[arg(long)]
+    pub trust_plugins: bool,
+}
+
+impl TrustArgs {
+    /// The trust the flag gives.
+    pub fn trust(self) -> Trust {
+        if self.trust_plugins {
+            Trust::Config
+        } else {
+            Trust::Installed
+        }
+    }
 }

@@ -16,8 +16,15 @@ use clap::Subcommand;
 pub fn run(cmd: ConfigCommand) -> Result<ExitCode> {
     let mut registry = keylo::registry();
     match cmd {
-        ConfigCommand::Show { file, sets } => {
-            let config = configs::load(&mut registry, file.as_deref(), None, None, &sets)?;
+        ConfigCommand::Show { file, sets, trust } => {
+            let config = configs::load(
+                &mut registry,
+                file.as_deref(),
+                None,
+                None,
+                &sets,
+                trust.trust(),
+            )?;
             print!("{}", render_resolved(&config, &registry));
         }
         ConfigCommand::Kinds => print!("{}", kinds(&registry)),
@@ -174,6 +181,8 @@ pub enum ConfigCommand {
         /// Override a value (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
+        #[command(flatten)]
+        trust: crate::arg_groups::TrustArgs,
     },
     /// List the registered backends of every stage.
     Kinds,

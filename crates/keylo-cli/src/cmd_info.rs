@@ -79,7 +79,11 @@ pub fn run(args: InfoArgs) -> Result<ExitCode> {
         ..Info::default()
     };
     let mut pictures = match &args.config {
-        Some(config) => Some(crate::overlay::Single::build(config, &args.data)?),
+        Some(config) => Some(crate::overlay::Single::build(
+            config,
+            &args.data,
+            args.trust.trust(),
+        )?),
         None => None,
     };
     let (mut first, mut last, mut valid) = (None, None, 0usize);
@@ -217,6 +221,8 @@ pub struct InfoArgs {
     /// are registered, and a top view of the raw and registered points.
     #[arg(long, requires = "image")]
     pub config: Option<PathBuf>,
+    #[command(flatten)]
+    pub trust: crate::arg_groups::TrustArgs,
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,

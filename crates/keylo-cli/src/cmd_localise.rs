@@ -25,6 +25,8 @@ pub struct LocaliseArgs {
     /// registration (docs/config.md); none: the defaults.
     #[arg(long)]
     pub config: Option<PathBuf>,
+    #[command(flatten)]
+    pub trust: crate::arg_groups::TrustArgs,
     /// The sensor's pose in the map at the first frame's end, "x y z qx qy qz qw" (default: the
     /// map's first keyframe).
     #[arg(long, value_name = "POSE", allow_hyphen_values = true)]
@@ -46,6 +48,7 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         Some(&args.data),
         None,
         &args.sets,
+        args.trust.trust(),
     )?;
     let settings = LocaliseConfig::from_table(&config.localise, &config.origin)?;
     if !settings.map.is_empty() && std::path::Path::new(&settings.map) != args.map {

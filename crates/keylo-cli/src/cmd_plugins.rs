@@ -7,6 +7,8 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::Subcommand;
 use keylo::config::RawConfig;
+use keylo::config::Trust;
+use keylo::plugin::host::CONFIG_DIRS;
 use keylo::plugin::host::{self, Instance};
 use keylo::plugin::{Plugin, PluginError, SearchPath};
 
@@ -20,6 +22,8 @@ pub enum PluginsCommand {
         /// Another folder to search first (repeatable).
         #[arg(long = "dir")]
         dirs: Vec<PathBuf>,
+        #[command(flatten)]
+        trust: crate::arg_groups::TrustArgs,
     },
     /// Load one plugin library, check its table and create + configure (default parameters)
     /// + destroy each of its kinds.
@@ -31,21 +35,37 @@ pub enum PluginsCommand {
 
 pub fn run(cmd: PluginsCommand) -> Result<ExitCode> {
     match cmd {
-        PluginsCommand::List { config, dirs } => list(config.as_deref(), &dirs),
+        PluginsCommand::List {
+            config,
+            dirs,
+            trust,
+        } => list(config.as_deref(), &dirs, trust.trust()),
         PluginsCommand::Check { file } => check(&file),
     }
 }
 
-fn list(config: Option<&Path>, extra: &[PathBuf]) -> Result<ExitCode> {
-    let mut dirs = extra.to_vec();
+/// Where a folder given with `--dir` came from.
+const DIR_FLAG: &str = "--dir";
+
+fn list(config: Option<&Path>, extra: &[PathBuf], trust: Trust) -> Result<ExitCode> {
+    let mut config_dirs = Vec::new();
     if let Some(path) = config {
         let raw = RawConfig::from_file(path)?;
-        dirs.extend(raw.plugins()?.dir_paths(&raw.base_dir));
+        config_dirs = raw.plugins()?.dir_paths(&raw.base_dir);
     }
-    let search = SearchPath::new(&dirs);
+    let mut search = SearchPath::new(&config_dirs);
+    search
+        .dirs
+        .splice(0..0, extra.iter().map(|d| (d.clone(), DIR_FLAG)));
     let mut rows = Vec::new();
     let mut broken = Vec::new();
-    for lib in search.libraries() {
+    let mut untrusted = Vec::new();
+    for (lib, from) in search.libraries_with_origin() {
+        // A config's own folders: listed, not loaded, unless the config is trusted.
+        if from == CONFIG_DIRS && trust == Trust::Installed {
+            untrusted.push(lib.display().to_string());
+            continue;
+        }
         match Plugin::open(&lib) {
             Ok(p) => rows.push(p),
             // Other shared libraries may share a folder with plugins.
@@ -62,6 +82,13 @@ fn list(config: Option<&Path>, extra: &[PathBuf]) -> Result<ExitCode> {
     println!("searched: {}", searched.join("; "));
     for b in &broken {
         eprintln!("warning: {b}");
+    }
+    if !untrusted.is_empty() {
+        eprintln!(
+            "note: not loaded, being in the config's own [plugins] dirs (--trust-plugins \
+             loads them): {}",
+            untrusted.join(", ")
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

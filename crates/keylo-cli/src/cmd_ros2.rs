@@ -25,6 +25,8 @@ pub struct Ros2Args {
     /// Override a config value, e.g. --set ros2.points_topic=/ouster/points (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
+    #[command(flatten)]
+    pub trust: crate::arg_groups::TrustArgs,
     /// Also write what `keylo run` writes (trajectory, frames.csv, summary.json) here.
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -42,7 +44,12 @@ static STOP: AtomicBool = AtomicBool::new(false);
 pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     let mut registry = keylo::registry();
     // No config: the built-in defaults (raw cloud, KISS-ICP), not the simulated demo.
-    let config = configs::load_or_defaults(&mut registry, args.config.as_deref(), &args.sets)?;
+    let config = configs::load_or_defaults(
+        &mut registry,
+        args.config.as_deref(),
+        &args.sets,
+        args.trust.trust(),
+    )?;
     let ros2 = Ros2Config::from_table(&config.ros2, &config.origin)?;
     let mut map = match &args.map_out {
         Some(dir) => {

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Result};
-use keylo::config::{PipelineConfig, RawConfig};
+use keylo::config::{PipelineConfig, RawConfig, Trust};
 use keylo::Registry;
 
 /// The built-in demo config (`configs/demo.toml`).
@@ -17,6 +17,7 @@ pub fn load(
     data: Option<&Path>,
     meta: Option<&Path>,
     sets: &[String],
+    trust: Trust,
 ) -> Result<PipelineConfig> {
     let mut raw = match (file, data) {
         (Some(path), _) => RawConfig::from_file(path)?,
@@ -35,7 +36,7 @@ pub fn load(
     if let Some(meta) = meta {
         apply_meta(&mut raw, meta)?;
     }
-    finish(registry, raw, sets)
+    finish(registry, raw, sets, trust)
 }
 
 /// Reads `file` (or, when `None`, the built-in defaults, not the demo), applies `--set`,
@@ -45,19 +46,25 @@ pub fn load_or_defaults(
     registry: &mut Registry,
     file: Option<&Path>,
     sets: &[String],
+    trust: Trust,
 ) -> Result<PipelineConfig> {
     let raw = match file {
         Some(path) => RawConfig::from_file(path)?,
         None => RawConfig::builtin(),
     };
-    finish(registry, raw, sets)
+    finish(registry, raw, sets, trust)
 }
 
-fn finish(registry: &mut Registry, mut raw: RawConfig, sets: &[String]) -> Result<PipelineConfig> {
+fn finish(
+    registry: &mut Registry,
+    mut raw: RawConfig,
+    sets: &[String],
+    trust: Trust,
+) -> Result<PipelineConfig> {
     for s in sets {
         raw.set(s)?;
     }
-    keylo::plugin::load_for_config(registry, &raw, keylo::config::Trust::Config)?;
+    keylo::plugin::load_for_config(registry, &raw, trust)?;
     Ok(registry.resolve(&raw)?)
 }
 
@@ -112,6 +119,8 @@ pub fn open_data(
         Some(&data.data),
         data.meta.as_deref(),
         &data.sets,
+        // No config file: whatever libraries it names come from the user's own `--set`.
+        Trust::Config,
     )?;
     let source = keylo::build_source(&config, registry)?;
     Ok((config.source.kind, source))

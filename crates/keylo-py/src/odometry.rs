@@ -68,8 +68,12 @@ fn pose_arg(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Pose> {
 #[pymethods]
 impl Odometry {
     #[new]
-    #[pyo3(signature = (config=None))]
-    fn new(py: Python<'_>, config: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+    #[pyo3(signature = (config=None, *, trust_plugins=false))]
+    fn new(
+        py: Python<'_>,
+        config: Option<&Bound<'_, PyAny>>,
+        trust_plugins: bool,
+    ) -> PyResult<Self> {
         let raw = raw_config(config)?;
         // A kind that is not a string is never seen: building the frontend below refuses it.
         let kinds = keylo::config::STAGE_DEFAULT_KINDS
@@ -86,7 +90,13 @@ impl Odometry {
             })
             .collect();
         let registry = crate::detectors::registry(py)?;
-        let frontend = Frontend::from_raw(raw, registry).map_err(frontend)?;
+        // A config's own libraries (`[plugins] dirs`, `onnxruntime`) load only when trusted.
+        let trust = if trust_plugins {
+            keylo::config::Trust::Config
+        } else {
+            keylo::config::Trust::Installed
+        };
+        let frontend = Frontend::from_raw_with(raw, registry, trust).map_err(frontend)?;
         Ok(Self {
             state: Mutex::new(State {
                 frontend,

@@ -22,7 +22,10 @@ pub use output::{
     keylo_pipeline_cloud, keylo_pipeline_covariance, keylo_pipeline_degeneracy,
     keylo_pipeline_local_map, keylo_pipeline_pose, keylo_pipeline_stats,
 };
-pub use pipeline::{keylo_pipeline_error, keylo_pipeline_free, keylo_pipeline_new, keylo_version};
+pub use pipeline::{
+    keylo_pipeline_error, keylo_pipeline_free, keylo_pipeline_new, keylo_pipeline_new_with_flags,
+    keylo_version,
+};
 pub use types::*;
 
 /// The source files cbindgen reads for `include/keylo.h`, in header order.

@@ -5,7 +5,9 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::TryLockError;
 
 use super::handles::{self, panic_text};
-use super::types::KeyloPipeline;
+use keylo::config::Trust;
+
+use super::types::{KeyloPipeline, KEYLO_TRUST_PLUGINS};
 use crate::{CapiError, Embedded};
 
 /// The keylo version, a static NUL-terminated string.
@@ -17,7 +19,9 @@ pub extern "C" fn keylo_version() -> *const c_char {
 /// A pipeline from a TOML config (the format of `keylo run` configs; `[source]` is not used
 /// except `[source.projection]` for `keylo_pipeline_push_points`). Relative paths resolve
 /// against `base_dir` (NULL: the current folder). On failure: NULL, and the message is written
-/// to `error` (`error_len` bytes, NUL-terminated) when it is not NULL.
+/// to `error` (`error_len` bytes, NUL-terminated) when it is not NULL. A config naming
+/// libraries of its own (`[plugins] dirs`, `onnxruntime`) is refused: see
+/// `keylo_pipeline_new_with_flags`.
 ///
 /// # Safety
 /// `toml` and `base_dir` must be NULL or NUL-terminated; `error` must have `error_len`
@@ -29,10 +33,38 @@ pub unsafe extern "C" fn keylo_pipeline_new(
     error: *mut c_char,
     error_len: usize,
 ) -> *mut KeyloPipeline {
+    // SAFETY: the caller's contract is this function's.
+    unsafe { keylo_pipeline_new_with_flags(toml, base_dir, 0, error, error_len) }
+}
+
+/// `keylo_pipeline_new` with `flags`: 0, or `KEYLO_TRUST_PLUGINS` to load the libraries the
+/// config names itself (their code runs; only for configs you trust). Unknown bits are an
+/// error.
+///
+/// # Safety
+/// As `keylo_pipeline_new`.
+#[no_mangle]
+pub unsafe extern "C" fn keylo_pipeline_new_with_flags(
+    toml: *const c_char,
+    base_dir: *const c_char,
+    flags: u32,
+    error: *mut c_char,
+    error_len: usize,
+) -> *mut KeyloPipeline {
     let made = catch_unwind(AssertUnwindSafe(|| {
         if toml.is_null() {
             return Err(CapiError::Argument("toml is NULL".into()));
         }
+        if flags & !KEYLO_TRUST_PLUGINS != 0 {
+            return Err(CapiError::Argument(format!(
+                "flags {flags:#x}: unknown bits (expected 0 or KEYLO_TRUST_PLUGINS)"
+            )));
+        }
+        let trust = if flags & KEYLO_TRUST_PLUGINS != 0 {
+            Trust::Config
+        } else {
+            Trust::Installed
+        };
         // SAFETY: NUL-terminated per the contract.
         let text = unsafe { CStr::from_ptr(toml) }
             .to_str()
@@ -44,7 +76,7 @@ pub unsafe extern "C" fn keylo_pipeline_new(
             let s = unsafe { CStr::from_ptr(base_dir) }.to_string_lossy();
             std::path::PathBuf::from(s.into_owned())
         };
-        Embedded::new(text, &base)
+        Embedded::new(text, &base, trust)
     }))
     .unwrap_or_else(|e| Err(CapiError::Panic(panic_text(e))));
     match made {

@@ -121,6 +121,12 @@ pub const KEYLO_CAPI_ERROR: i32 = -1;
 /// Refused: another thread is inside a call on the same pipeline (nothing was done, and the
 /// error text is not changed). A pipeline is used by one thread at a time.
 pub const KEYLO_CAPI_BUSY: i32 = -2;
+/// `keylo_pipeline_new_with_flags`: load the libraries the config names itself (plugins in
+/// its `[plugins] dirs`, an `onnxruntime` path), whose code then runs. Without it such a
+/// config is refused; plugins installed in KEYLO_PLUGIN_PATH or ~/.local/lib/keylo/plugins
+/// load either way (docs/plugins.md, "Trust").
+pub const KEYLO_TRUST_PLUGINS: u32 = 1;
+
 /// `keylo_pipeline_degeneracy` / `keylo_pipeline_covariance`: the last frame has no
 /// degeneracy analysis (or, for the covariance, an unconstrained direction).
 pub const KEYLO_CAPI_NOT_ANALYSED: i32 = 1;

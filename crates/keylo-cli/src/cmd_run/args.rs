@@ -26,6 +26,8 @@ pub struct RunArgs {
     /// Override a config value, e.g. --set registrar.voxel_size=0.5 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
+    #[command(flatten)]
+    pub trust: crate::arg_groups::TrustArgs,
     /// Frames read ahead on a thread of their own while the current one is registered;
     /// 0 reads each frame when it is needed. Results are the same either way.
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(0..=16))]

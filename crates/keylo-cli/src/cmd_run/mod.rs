@@ -31,6 +31,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         args.data.as_deref(),
         args.meta.as_deref(),
         &args.sets,
+        args.trust.trust(),
     )?;
     // A ground-truth file named by the user must be readable before any work starts.
     let gt_given = accuracy::reference_file(&args, &config)?;

@@ -42,6 +42,8 @@ pub struct CompareArgs {
     /// Override a config value in every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
+    #[command(flatten)]
+    pub trust: crate::arg_groups::TrustArgs,
     /// Diverged when the largest aligned translation error exceeds this (m).
     #[arg(long, default_value_t = 2.0)]
     pub diverge_ape: f64,

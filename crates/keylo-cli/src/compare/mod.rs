@@ -100,6 +100,7 @@ pub fn run(args: CompareArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
         &schedule::Options {
             jobs: args.jobs,
             threads,
+            trust_plugins: args.trust.trust_plugins,
             rerun: args.rerun,
             timeout: args.timeout.map(std::time::Duration::from_secs_f64),
             quiet,
@@ -174,6 +175,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
             Some(first_data),
             None,
             &args.sets,
+            args.trust.trust(),
         )?;
         let windows = grid::windows_of(base.downsampler.params.get("windows"));
         let rejected = rejected_axes(
@@ -183,6 +185,7 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
             &args.sets,
             axes,
             &windows,
+            args.trust.trust(),
         );
         let flavours = if args.same_budget {
             budget::flavours(&base.downsampler)
@@ -234,9 +237,15 @@ fn plan(args: &CompareArgs, axes: &[grid::Axis], quiet: bool) -> Result<Vec<Plan
             sets.extend(grid::set_strings(point, windows));
             let variant = variant_label(&stem, &grid::label(point, windows), many);
             for (data, data_label) in args.data.iter().zip(&data_labels) {
-                let loaded =
-                    configs::load(&mut registry, config.as_deref(), Some(data), None, &sets)
-                        .with_context(|| format!("configuration {variant} on {data_label}"))?;
+                let loaded = configs::load(
+                    &mut registry,
+                    config.as_deref(),
+                    Some(data),
+                    None,
+                    &sets,
+                    args.trust.trust(),
+                )
+                .with_context(|| format!("configuration {variant} on {data_label}"))?;
                 let id = format!("{data_label}/{}", slug(&variant));
                 let gt = args
                     .gt
@@ -272,6 +281,7 @@ fn rejected_axes(
     sets: &[String],
     axes: &[grid::Axis],
     windows: &std::collections::BTreeMap<String, usize>,
+    trust: keylo::config::Trust,
 ) -> Vec<(usize, String)> {
     let mut out = Vec::new();
     for (i, a) in axes.iter().enumerate() {
@@ -281,7 +291,7 @@ fn rejected_axes(
                 &vec![(a.name.clone(), a.key.clone(), v.clone())],
                 windows,
             ));
-            if let Err(e) = configs::load(registry, config, Some(data), None, &all) {
+            if let Err(e) = configs::load(registry, config, Some(data), None, &all, trust) {
                 let config =
                     config.map_or("the built-in config".into(), |p| p.display().to_string());
                 out.push((

@@ -111,6 +111,8 @@ pub struct Options {
     pub jobs: usize,
     /// `--threads` for each run.
     pub threads: Option<usize>,
+    /// `--trust-plugins` for each run.
+    pub trust_plugins: bool,
     /// Run again even where a finished summary is found.
     pub rerun: bool,
     /// Stop a run that takes longer than this.
@@ -219,6 +221,9 @@ fn run_one(exe: &Path, plan: &Planned, opts: &Options) -> Result<Outcome, Compar
     }
     for s in &plan.sets {
         cmd.arg("--set").arg(s);
+    }
+    if opts.trust_plugins {
+        cmd.arg("--trust-plugins");
     }
     if let Some(speed) = plan.realtime {
         cmd.arg(format!("--realtime={speed}"));

@@ -46,6 +46,8 @@ pub struct InputArgs {
     /// combinations, e.g. `plugin:loam-edges_BRIEF`, and join `all`.
     #[arg(long = "plugin-dir", value_name = "DIR")]
     pub plugin_dirs: Vec<PathBuf>,
+    #[command(flatten)]
+    pub trust: crate::arg_groups::TrustArgs,
     /// Evaluation settings (TOML: `preset`, `[image]`, `[metrics]`, `[params.<kind>]`; see
     /// docs/keypoint-eval.md).
     #[arg(long)]

@@ -16,7 +16,7 @@ pub struct Single {
 impl Single {
     /// Builds the stages of `config` (with the data's `--set`s), before any frame is read, so
     /// that a bad config is reported first.
-    pub fn build(config: &Path, data: &DataArgs) -> Result<Self> {
+    pub fn build(config: &Path, data: &DataArgs, trust: keylo::config::Trust) -> Result<Self> {
         let mut registry = keylo::registry();
         let resolved = crate::configs::load(
             &mut registry,
@@ -24,6 +24,7 @@ impl Single {
             Some(&data.data),
             data.meta.as_deref(),
             &data.sets,
+            trust,
         )?;
         let odometry = Odometry::build(&resolved, &registry)
             .with_context(|| format!("config {}", config.display()))?;

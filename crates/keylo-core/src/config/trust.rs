@@ -123,7 +123,7 @@ mod tests {
             key: "[plugins] dirs".into(),
             path: PathBuf::from("p/libevil.so"),
         };
-        let e = check(&r, Trust::Installed, &[lib.clone()])
+        let e = check(&r, Trust::Installed, std::slice::from_ref(&lib))
             .unwrap_err()
             .to_string();
         assert!(e.contains("p/libevil.so ([plugins] dirs)"), "{e}");

@@ -42,6 +42,7 @@ pub fn environment(explicit: &str) -> Result<&'static Environment, FeaturesError
         .map_err(|e| {
             FeaturesError::Unavailable(format!("ONNX Runtime from `{}`: {e}", path.display()))
         })?;
+    tracing::info!("loaded ONNX Runtime from {}", path.display());
     Ok(&LOADED
         .get_or_init(|| Loaded { path, environment })
         .environment)

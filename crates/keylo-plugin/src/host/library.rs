@@ -163,6 +163,8 @@ impl Plugin {
 
     /// Opens the library at `path` and checks its table.
     pub fn open(path: &Path) -> Result<Arc<Self>, PluginError> {
+        // Before the library's code can run (its initialisers run when it is opened).
+        tracing::info!("loading plugin library {}", path.display());
         // SAFETY: loading a library runs its initialisers; a plugin is trusted code the
         // user asked for by name or path.
         let lib = unsafe { Library::new(path) }.map_err(|e| PluginError::Open {

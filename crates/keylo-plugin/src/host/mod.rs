@@ -9,4 +9,4 @@ mod views;
 pub use instance::{Instance, RegistrarInstance};
 pub use library::{Kind, KindV2, Plugin, Stage, ENTRY_SYMBOL, SUPPORTED_ABI};
 pub use register::{load_for_config, referenced, register_plugin, search_path, KIND_PREFIX};
-pub use search::{file_names, SearchPath, DEFAULT_DIR, PLUGIN_PATH_ENV};
+pub use search::{file_names, SearchPath, CONFIG_DIRS, DEFAULT_DIR, PLUGIN_PATH_ENV};

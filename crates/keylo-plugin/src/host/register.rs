@@ -165,12 +165,6 @@ pub fn load_for_config(
             None => {
                 let path = files[&name].clone();
                 let plugin = Plugin::open(&path)?;
-                tracing::info!(
-                    "loaded plugin {} {} from {}",
-                    plugin.name,
-                    plugin.version,
-                    path.display()
-                );
                 if plugin.name != name {
                     return Err(PluginError::NameMismatch {
                         path,

@@ -75,8 +75,16 @@ impl SearchPath {
 
     /// Every shared library in the searched folders, in search order (for `keylo plugins list`).
     pub fn libraries(&self) -> Vec<PathBuf> {
+        self.libraries_with_origin()
+            .into_iter()
+            .map(|(p, _)| p)
+            .collect()
+    }
+
+    /// [`SearchPath::libraries`], each with where its folder came from.
+    pub fn libraries_with_origin(&self) -> Vec<(PathBuf, &'static str)> {
         let mut out = Vec::new();
-        for (dir, _) in &self.dirs {
+        for (dir, from) in &self.dirs {
             let Ok(entries) = std::fs::read_dir(dir) else {
                 continue;
             };
@@ -85,7 +93,7 @@ impl SearchPath {
                 .filter(|p| p.is_file() && is_library(p))
                 .collect();
             found.sort();
-            out.extend(found);
+            out.extend(found.into_iter().map(|p| (p, *from)));
         }
         out
     }

@@ -75,7 +75,7 @@ def _config_table(config):
     return tomllib.loads(config), pathlib.Path(".")
 
 
-def run(config=None, data=None, gt=None, **source):
+def run(config=None, data=None, gt=None, trust_plugins=False, **source):
     """Runs a config over data in this process, as ``keylo run`` does.
 
     ``config`` is what ``Odometry`` takes. The frames come from ``data`` (any path
@@ -91,9 +91,10 @@ def run(config=None, data=None, gt=None, **source):
     (``(stamps, poses)`` or a path, None without), ``accuracy`` (``keylo.evaluate``'s
     figures, or None), ``kinds`` (each stage's backend) and ``interrupted`` (Ctrl-C stops
     the run; the frames done are kept). An error in the data raises after the frames before
-    it were registered; ``compare`` keeps those.
+    it were registered; ``compare`` keeps those. ``trust_plugins`` is ``Odometry``'s: a
+    config naming libraries of its own is refused without it.
     """
-    records, summary, error = _run(config, data, gt, source)
+    records, summary, error = _run(config, data, gt, source, trust_plugins)
     if error is not None:
         raise error
     return records, summary
@@ -119,12 +120,12 @@ def _truth_args(truth):
     return {"gt": truth}
 
 
-def _run(config, data, gt, source):
+def _run(config, data, gt, source, trust_plugins=False):
     """``run``'s work: ``(records, summary, error)``, where ``error`` is the ``KeyloError``
     that stopped the run after the frames in ``records`` (None when the data ran out). A
     config that does not build raises."""
     table, folder = _config_table(config)
-    odometry = Odometry(config)
+    odometry = Odometry(config, trust_plugins=trust_plugins)
     if data is not None:
         reader, path = open(data, **source), data
     else:
@@ -209,11 +210,11 @@ COMPARE_COLUMNS = (
 )
 
 
-def _compare_row(config, data, gt, source, criterion):
+def _compare_row(config, data, gt, source, criterion, trust_plugins=False):
     """One run of ``compare``: its figures and verdict (the columns of ``COMPARE_COLUMNS``)."""
     row = dict.fromkeys(COMPARE_COLUMNS)
     try:
-        records, summary, error = _run(config, data, gt, source)
+        records, summary, error = _run(config, data, gt, source, trust_plugins)
     except KeyloError as e:
         row.update(verdict="failed", reason=str(e), frames=0)
         return row
@@ -238,7 +239,7 @@ def _compare_row(config, data, gt, source, criterion):
 
 
 def compare(configs, data=None, grid=None, gt=None, max_ape=2.0, max_step=5.0,
-            t_max_diff=0.01, **source):
+            t_max_diff=0.01, trust_plugins=False, **source):
     """Configurations side by side, in this process, judged as ``keylo compare`` judges
     them: every config (path, TOML text or dict) × every combination of ``grid``
     (``{"registrar.voxel_size": [0.5, 1.0]}``) × every ``data`` (a path or a list of paths;
@@ -254,6 +255,7 @@ def compare(configs, data=None, grid=None, gt=None, max_ape=2.0, max_step=5.0,
     ``cpu_percent``, ``peak_rss_mb`` and ``frames_late`` (of ``keylo compare --realtime``)
     are None: runs share this process and are not paced. ``gt`` is one
     TUM/KITTI file for every data; without it each source's own ground truth is used.
+    ``trust_plugins`` is ``Odometry``'s (a config's own libraries load only with it).
     """
     if data is None or isinstance(data, (str, os.PathLike)):
         datas = [data]
@@ -279,7 +281,8 @@ def compare(configs, data=None, grid=None, gt=None, max_ape=2.0, max_step=5.0,
             point = " ".join(f"{k}={v}" for k, v in zip(keys, values))
             variant = label if not point else point if len(configs) == 1 else f"{label} {point}"
             for d in datas:
-                row = _compare_row(run_config if keys else config, d, gt, source, criterion)
+                row = _compare_row(run_config if keys else config, d, gt, source, criterion,
+                                   trust_plugins)
                 row.update(data=pathlib.Path(d).stem if d is not None else label,
                            variant=variant,
                            config=str(config) if not isinstance(config, dict) else "dict")

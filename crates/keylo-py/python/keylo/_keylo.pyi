@@ -105,9 +105,11 @@ def open(
     """The frames of `path` (kind detected) or of source `kind` (e.g. "sim")."""
 
 class Odometry:
-    """The per-frame stages of a config (TOML path, TOML text or dict)."""
+    """The per-frame stages of a config (TOML path, TOML text or dict). A config naming
+    libraries of its own (plugins in its `[plugins] dirs`, an `onnxruntime` path) is refused
+    unless `trust_plugins=True`: loading them runs their code (docs/python.md, "Trust")."""
 
-    def __init__(self, config: ConfigArg = None) -> None: ...
+    def __init__(self, config: ConfigArg = None, *, trust_plugins: bool = False) -> None: ...
     def process(
         self,
         points: npt.ArrayLike,
