@@ -26,6 +26,16 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// `KeyloFrameStats::degenerate`: the frame is not degenerate.
+#define KEYLO_DEGENERATE_NONE 0
+
+// `KeyloFrameStats::degenerate`: fewer registered points than the registrar's minimum.
+#define KEYLO_DEGENERATE_TOO_FEW_POINTS 1
+
+// `KeyloFrameStats::degenerate`: the degeneracy analysis found a direction without
+// information.
+#define KEYLO_DEGENERATE_NO_INFORMATION 2
+
 // Success.
 #define KEYLO_CAPI_OK 0
 
@@ -108,6 +118,16 @@ typedef struct KeyloFrameStats {
   double fitness;
   // The fitness reached its threshold; a frame not tracking has a pose not to be trusted.
   bool tracking;
+  // Why the registration could not constrain the pose (its pose is then, at least in
+  // part, the motion model's prediction): `KEYLO_DEGENERATE_NONE`,
+  // `KEYLO_DEGENERATE_TOO_FEW_POINTS` (`registered_points` below `degenerate_minimum`) or
+  // `KEYLO_DEGENERATE_NO_INFORMATION` (`degenerate_directions` of the six without
+  // information).
+  uint32_t degenerate;
+  // The registrar's minimum of registered points (with `KEYLO_DEGENERATE_TOO_FEW_POINTS`).
+  uint32_t degenerate_minimum;
+  // Pose directions without information (with `KEYLO_DEGENERATE_NO_INFORMATION`).
+  uint32_t degenerate_directions;
 } KeyloFrameStats;
 
 // The pose of the last frame.

@@ -9,9 +9,11 @@ use std::time::Duration;
 
 use anyhow::{Context, Result};
 use clap::Args;
+use keylo::config::OnDegenerate;
 use keylo::{Odometry, Trajectory};
 use keylo_ros2::{Ros2Config, Ros2Node};
 
+use crate::degenerate_out::DegenerateLog;
 use crate::journal::Journal;
 use crate::report::{self, Summary, Totals};
 use crate::ros2_map::NodeMap;
@@ -107,8 +109,18 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     let mut totals = Totals::default();
     let mut trajectory = Trajectory::default();
     let mut write_error: Option<anyhow::Error> = None;
+    let mut degenerate = DegenerateLog::default();
     let on_frame = |p: &keylo_ros2::Published| {
         totals.add(p.result);
+        if let Some(why) = p.result.degenerate {
+            let name = format!("frame {}", p.result.index);
+            degenerate.record(p.result.index, &name, why, p.result.cloud_points);
+            if config.output.on_degenerate == OnDegenerate::Error {
+                tracing::error!(
+                    "{name}: output.on_degenerate = \"error\" does not stop a node; it goes on"
+                );
+            }
+        }
         totals.odometry_seconds += p.seconds;
         if let Some(m) = map.as_mut() {
             m.add(p);
@@ -142,6 +154,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
                 map_points: p.result.map_points,
                 odometry_ms: 1e3 * p.seconds,
                 rss_mb: resources::rss_mb(),
+                degenerate: p.result.degenerate.map(|d| d.label()),
             };
             if let Err(e) = j.record(p.result.stamp, &p.result.pose, &row) {
                 tracing::error!("writing the run's files failed: {e:#}; the node goes on");
@@ -198,6 +211,8 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
                 serde_json::Value::Array(list)
             }),
             source_counters: counters,
+            frames_degenerate: degenerate.frames.len(),
+            degenerate: degenerate.frames.clone(),
             ..Summary::default()
         };
         totals.fill(&mut summary);

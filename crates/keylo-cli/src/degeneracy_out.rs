@@ -17,7 +17,7 @@ pub const DEGENERACY_CSV_HEADER: &str = "frame,condition,weak,l1,l2,l3,l4,l5,l6,
 pub struct DegeneracySummary {
     pub frames_analysed: usize,
     /// Frames with at least one weak direction.
-    pub frames_degenerate: usize,
+    pub frames_weak: usize,
     pub median_condition: f64,
     /// Largest finite condition number.
     pub max_condition: f64,
@@ -53,7 +53,7 @@ pub fn summarise(rows: &[DegeneracyRow]) -> Option<DegeneracySummary> {
     }
     Some(DegeneracySummary {
         frames_analysed: rows.len(),
-        frames_degenerate: degenerate.len(),
+        frames_weak: degenerate.len(),
         median_condition: conditions[conditions.len() / 2],
         max_condition: conditions
             .iter()

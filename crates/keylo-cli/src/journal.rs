@@ -101,6 +101,7 @@ mod tests {
             map_points: 400,
             odometry_ms: 12.5,
             rss_mb: Some(70.0),
+            degenerate: None,
         };
         j.record(0.1, &Pose::translation(1.0, 2.0, 3.0), &row)
             .unwrap();

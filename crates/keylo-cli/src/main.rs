@@ -18,6 +18,7 @@ mod cmd_sim;
 mod compare;
 mod configs;
 mod degeneracy_out;
+mod degenerate_out;
 mod journal;
 mod keypoints;
 mod overlay;
@@ -46,6 +47,9 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// Exit status for a run that stopped on a bad frame (trajectory so far is written).
 pub const EXIT_FRAME_FAILED: u8 = 3;
+/// Exit status for a run whose every frame was degenerate (too few points, or a pose direction
+/// without information): its trajectory is the motion model's, not odometry. Written anyway.
+pub const EXIT_DEGENERATE: u8 = 4;
 /// Exit status for a run stopped by Ctrl-C (its results so far are written), as shells use.
 pub const EXIT_INTERRUPTED: u8 = 130;
 

@@ -37,6 +37,12 @@ pub struct Summary {
     /// whose pose is the registrar's constant-velocity prediction (`empty_frame = "predict"`).
     pub frames_predicted: usize,
     pub failed: Option<Failure>,
+    /// Frames whose registration could not constrain the pose (too few registered points, or
+    /// a direction without information): the count, and each frame with its reason.
+    pub frames_degenerate: usize,
+    pub degenerate: Vec<crate::degenerate_out::DegenerateFrame>,
+    /// No frame after the first constrained its pose (the run exits with status 4).
+    pub all_degenerate: bool,
     /// Frames per second of the odometry stages alone (source reading excluded).
     pub odometry_hz: f64,
     /// Frames per second end to end, source included.
@@ -173,11 +179,13 @@ pub struct FrameRow {
     pub odometry_ms: f64,
     /// Resident set size after the frame, MB (`None` off Linux).
     pub rss_mb: Option<f64>,
+    /// Why the frame is degenerate (`too-few-points`, `no-information`); `None`: it is not.
+    pub degenerate: Option<&'static str>,
 }
 
 /// Header of `frames.csv`.
 pub const FRAMES_CSV_HEADER: &str =
-    "frame,stamp,keypoints,cloud_points,registered_points,map_points,odometry_ms,rss_mb";
+    "frame,stamp,keypoints,cloud_points,registered_points,map_points,odometry_ms,rss_mb,degenerate";
 
 impl FrameRow {
     /// This frame's line of `frames.csv` (with its newline).
@@ -191,6 +199,7 @@ impl FrameRow {
             self.map_points.to_string(),
             format!("{:.3}", self.odometry_ms),
             self.rss_mb.map_or(String::new(), |v| format!("{v:.1}")),
+            self.degenerate.unwrap_or_default().to_string(),
         ])
     }
 }
@@ -228,6 +237,10 @@ pub fn table(s: &Summary) -> String {
     let mut out = String::new();
     for (k, v) in rows {
         out.push_str(&format!("  {k:<28} {v:>12}\n"));
+    }
+    if s.frames_degenerate > 0 {
+        let k = "degenerate frames";
+        out.push_str(&format!("  {k:<28} {:>12}\n", s.frames_degenerate));
     }
     if let (Some(speed), Some(late)) = (s.playback_speed, s.frames_late) {
         let k = format!("frames late at {speed}x rate");

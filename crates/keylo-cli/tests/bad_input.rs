@@ -146,13 +146,23 @@ fn empty_and_all_nan_frames_are_predicted_or_stop_the_run() {
         out.to_str().unwrap(),
     ];
     // Default (`registrar.empty_frame = "predict"`, upstream KISS-ICP's behaviour): the two
-    // frames get the constant-velocity prediction, each with a warning, and are counted.
+    // frames get the constant-velocity prediction, each with a warning naming it degenerate,
+    // and are counted.
     let o = keylo(&args, tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));
     for frame in ["frame 3", "frame 4"] {
         assert!(stderr(&o).contains(frame), "{}", stderr(&o));
     }
-    assert!(stderr(&o).contains("constant-velocity"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is degenerate: 0 registered points"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        stderr(&o).contains("motion model's prediction"),
+        "{}",
+        stderr(&o)
+    );
     assert_eq!(pose_lines(&out), 6);
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(summary.contains("\"frames_predicted\": 2"), "{summary}");

@@ -8,6 +8,7 @@
 pub mod cloud;
 pub mod config;
 pub mod degeneracy;
+pub mod degenerate;
 pub mod error;
 pub mod features;
 pub mod frame;
@@ -25,6 +26,7 @@ pub mod voxel;
 
 pub use cloud::PointCloud;
 pub use degeneracy::Degeneracy;
+pub use degenerate::Degenerate;
 pub use error::{ConfigError, CoreError, ShapeError};
 pub use features::{ChannelFeatures, DescriptorData, Descriptors, FrameFeatures, Keypoint};
 pub use frame::{BeamGeometry, Channel, LidarFrame};

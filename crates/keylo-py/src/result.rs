@@ -58,6 +58,28 @@ impl FrameResult {
         self.out.result.registered_points
     }
 
+    /// Why the registration could not constrain the pose, or None: a dict with `reason`
+    /// (`too-few-points`: `points` below the registrar's `minimum`; `no-information`:
+    /// `directions` of the six without information). The pose is then (partly) predicted.
+    #[getter]
+    fn degenerate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(d) = self.out.result.degenerate else {
+            return Ok(None);
+        };
+        let dict = PyDict::new(py);
+        dict.set_item("reason", d.label())?;
+        match d {
+            keylo::Degenerate::TooFewPoints { points, minimum } => {
+                dict.set_item("points", points)?;
+                dict.set_item("minimum", minimum)?;
+            }
+            keylo::Degenerate::NoInformation { directions } => {
+                dict.set_item("directions", directions)?;
+            }
+        }
+        Ok(Some(dict))
+    }
+
     /// Points in the local map after the frame.
     #[getter]
     fn map_points(&self) -> usize {

@@ -58,3 +58,20 @@ def test_unreadable_data_names_the_path(tmp_path):
         keylo.open(tmp_path / "x.txt")
     with pytest.raises(keylo.DataError, match="give a path"):
         keylo.open()
+
+
+def test_a_degenerate_frame_says_so():
+    odometry = keylo.Odometry()
+    first = odometry.process(np.array([[5.0, 1.0, 0.5]]), stamp=0.0)
+    assert first.degenerate == {"reason": "too-few-points", "points": 1, "minimum": 3}
+    # A room: every wall seen, nothing degenerate.
+    rng = np.random.default_rng(0)
+    u, v = rng.uniform(-1, 1, (2, 3000))
+    walls = [np.stack(w, 1) for w in ((10 + 0 * u, 6 * u, 2 * v), (-10 + 0 * u, 6 * u, 2 * v),
+                                      (10 * u, 6 + 0 * u, 2 * v), (10 * u, -6 + 0 * u, 2 * v),
+                                      (10 * u, 6 * v, 2 + 0 * u), (10 * u, 6 * v, -2 + 0 * u))]
+    room = np.concatenate(walls)
+    fresh = keylo.Odometry()
+    for k in range(3):
+        r = fresh.process(room - [0.1 * k, 0, 0], stamp=0.1 * k)
+        assert r.degenerate is None, r.degenerate

@@ -1,14 +1,20 @@
 //! Results out: statistics, pose, degeneracy, covariance, the registered cloud, the local map.
 
-use keylo::FrameResult;
+use keylo::{Degenerate, FrameResult};
 
 use super::handles::with;
 use super::sized::write_out;
 use super::types::{
     KeyloDegeneracy, KeyloFrameStats, KeyloPipeline, KeyloPose, KEYLO_CAPI_NOT_ANALYSED,
-    KEYLO_CAPI_OK,
+    KEYLO_CAPI_OK, KEYLO_DEGENERATE_NONE, KEYLO_DEGENERATE_NO_INFORMATION,
+    KEYLO_DEGENERATE_TOO_FEW_POINTS,
 };
 use crate::{CapiError, Embedded};
+
+/// A count as `u32`, saturating.
+fn saturate(n: usize) -> u32 {
+    u32::try_from(n).unwrap_or(u32::MAX)
+}
 
 /// The last frame's result, or an error before the first frame.
 fn last(e: &Embedded) -> Result<&FrameResult, CapiError> {
@@ -48,6 +54,19 @@ pub unsafe extern "C" fn keylo_pipeline_stats(
             localised: r.fit.is_some(),
             fitness: r.fit.map_or(0.0, |f| f.fitness),
             tracking: r.fit.is_some_and(|f| f.tracking),
+            degenerate: match r.degenerate {
+                None => KEYLO_DEGENERATE_NONE,
+                Some(Degenerate::TooFewPoints { .. }) => KEYLO_DEGENERATE_TOO_FEW_POINTS,
+                Some(Degenerate::NoInformation { .. }) => KEYLO_DEGENERATE_NO_INFORMATION,
+            },
+            degenerate_minimum: match r.degenerate {
+                Some(Degenerate::TooFewPoints { minimum, .. }) => saturate(minimum),
+                _ => 0,
+            },
+            degenerate_directions: match r.degenerate {
+                Some(Degenerate::NoInformation { directions }) => saturate(directions),
+                _ => 0,
+            },
         };
         // SAFETY: forwarded from the caller.
         unsafe { write_out(out, stats, "out") }

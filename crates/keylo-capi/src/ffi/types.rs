@@ -106,7 +106,25 @@ pub struct KeyloFrameStats {
     pub fitness: f64,
     /// The fitness reached its threshold; a frame not tracking has a pose not to be trusted.
     pub tracking: bool,
+    /// Why the registration could not constrain the pose (its pose is then, at least in
+    /// part, the motion model's prediction): `KEYLO_DEGENERATE_NONE`,
+    /// `KEYLO_DEGENERATE_TOO_FEW_POINTS` (`registered_points` below `degenerate_minimum`) or
+    /// `KEYLO_DEGENERATE_NO_INFORMATION` (`degenerate_directions` of the six without
+    /// information).
+    pub degenerate: u32,
+    /// The registrar's minimum of registered points (with `KEYLO_DEGENERATE_TOO_FEW_POINTS`).
+    pub degenerate_minimum: u32,
+    /// Pose directions without information (with `KEYLO_DEGENERATE_NO_INFORMATION`).
+    pub degenerate_directions: u32,
 }
+
+/// `KeyloFrameStats::degenerate`: the frame is not degenerate.
+pub const KEYLO_DEGENERATE_NONE: u32 = 0;
+/// `KeyloFrameStats::degenerate`: fewer registered points than the registrar's minimum.
+pub const KEYLO_DEGENERATE_TOO_FEW_POINTS: u32 = 1;
+/// `KeyloFrameStats::degenerate`: the degeneracy analysis found a direction without
+/// information.
+pub const KEYLO_DEGENERATE_NO_INFORMATION: u32 = 2;
 
 /// A keylo pipeline (opaque). A handle, not an address: a freed or made-up handle is
 /// recognised and refused (`KEYLO_CAPI_ERROR`), never dereferenced.

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use keylo::config::{OnBadFrame, PipelineConfig};
+use keylo::config::{OnBadFrame, OnDegenerate, PipelineConfig};
 use keylo::map::covariance::NoiseModel;
 use keylo::map::{MapBuilder, PoseGraph};
 use keylo::{CoreError, ImageSource, Paced, Pipeline, Prefetched, Trajectory};
@@ -18,10 +18,13 @@ use keylo::{CoreError, ImageSource, Paced, Pipeline, Prefetched, Trajectory};
 pub use args::RunArgs;
 
 use crate::degeneracy_out::{self, DegeneracyRow};
+use crate::degenerate_out::{self, DegenerateLog};
 use crate::journal::Journal;
 use crate::overlay::Pictures;
 use crate::report::{self, Failure, Summary, Totals};
-use crate::{configs, resources, trajectories, EXIT_FRAME_FAILED, EXIT_INTERRUPTED};
+use crate::{
+    configs, resources, trajectories, EXIT_DEGENERATE, EXIT_FRAME_FAILED, EXIT_INTERRUPTED,
+};
 
 pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let mut registry = keylo::registry();
@@ -133,6 +136,10 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     summary.source_counters = pipeline.source.counters().into_iter().collect();
     report::log_counters(&summary.source_counters);
     summary.degeneracy = degeneracy_out::summarise(&outcome.degeneracy);
+    summary.frames_degenerate = outcome.degenerate.frames.len();
+    summary.degenerate = outcome.degenerate.frames.clone();
+    let first = outcome.first_frame.unwrap_or_default();
+    summary.all_degenerate = outcome.degenerate.all_of(summary.frames, first);
     // The options map the clock of a reference file given to the run, not a source's own.
     let map = match &gt_given {
         Some(_) => args.reference.stamp_map(),
@@ -173,6 +180,19 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         };
         return Ok(ExitCode::from(code));
     }
+    if let Some(line) = outcome.degenerate.closing(summary.frames) {
+        tracing::warn!("{line}");
+    }
+    if summary.all_degenerate {
+        eprintln!(
+            "error: no frame of the {} was registered with all six pose directions constrained \
+             (every frame after the first degenerate): the trajectory is the motion model's \
+             prediction, not odometry (written to {} all the same)",
+            summary.frames,
+            out.display()
+        );
+        return Ok(ExitCode::from(EXIT_DEGENERATE));
+    }
     Ok(ExitCode::SUCCESS)
 }
 
@@ -184,6 +204,9 @@ struct RunState {
     failure: Option<Failure>,
     interrupted: bool,
     degeneracy: Vec<DegeneracyRow>,
+    degenerate: DegenerateLog,
+    /// Index of the first frame registered.
+    first_frame: Option<u64>,
 }
 
 /// Where each frame's results go besides the trajectory.
@@ -276,15 +299,19 @@ fn process_all(
         progress.inc(1);
         match result {
             Ok((r, features)) => {
-                if r.registered_points == 0 {
-                    tracing::warn!(
-                        "{}: no point to register ({} points in the cloud, none within the \
-                         registrar's range limits); its pose is the constant-velocity \
-                         prediction (set registrar.empty_frame = \"error\" to stop instead)",
-                        frame_name(pipeline, frame.index),
-                        r.cloud_points
-                    );
+                if let Some(why) = r.degenerate {
+                    if config.output.on_degenerate == OnDegenerate::Error {
+                        st.failure = Some(Failure {
+                            frame: frame.index,
+                            error: degenerate_out::stop_message(&why),
+                        });
+                        break;
+                    }
+                    let name = frame_name(pipeline, frame.index);
+                    st.degenerate
+                        .record(frame.index, &name, why, r.cloud_points);
                 }
+                st.first_frame.get_or_insert(frame.index);
                 st.trajectory.push(r.stamp, r.pose);
                 st.totals.add(&r);
                 if let Some(fit) = r.fit.filter(|f| !f.tracking) {
@@ -304,6 +331,7 @@ fn process_all(
                     map_points: r.map_points,
                     odometry_ms: 1e3 * seconds,
                     rss_mb: resources::rss_mb(),
+                    degenerate: r.degenerate.map(|d| d.label()),
                 };
                 if let Some(d) = r.degeneracy.clone() {
                     tracing::debug!(

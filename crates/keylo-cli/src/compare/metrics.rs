@@ -95,6 +95,8 @@ pub fn collect(plan: &Planned, outcome: &Outcome, crit: &Criterion) -> (Row, Ser
         )
     } else if let Some(why) = stopped {
         ("failed", why)
+    } else if let Some(why) = all_degenerate(summary.as_ref()) {
+        ("failed", why)
     } else if summary.is_none() {
         let why = outcome
             .error
@@ -120,6 +122,24 @@ fn divergence(
     };
     let (verdict, reason) = judge(est, ape, has_gt, crit);
     (verdict.as_str(), reason)
+}
+
+/// Why a run counts as failed when summary.json says no frame after the first constrained
+/// its pose (`keylo run` exited 4).
+fn all_degenerate(summary: Option<&Value>) -> Option<String> {
+    let s = summary?;
+    if s.get("all_degenerate").and_then(Value::as_bool) != Some(true) {
+        return None;
+    }
+    let first = s.get("degenerate").and_then(|d| d.get(0));
+    let reason = first
+        .and_then(|f| f.get("reason"))
+        .and_then(Value::as_str)
+        .unwrap_or("?");
+    Some(format!(
+        "every frame after the first degenerate ({reason}): the trajectory is the motion \
+         model's prediction, not odometry"
+    ))
 }
 
 fn read_json(path: &Path) -> Option<Value> {
@@ -148,6 +168,10 @@ fn read_kinds(dir: &Path, row: &mut Row) {
 fn fill_from_summary(s: &Value, row: &mut Row) {
     let f = |k: &str| s.get(k).and_then(Value::as_f64);
     row.frames = s.get("frames").and_then(Value::as_u64).map(|n| n as usize);
+    row.degenerate_frames = s
+        .get("frames_degenerate")
+        .and_then(Value::as_u64)
+        .map(|n| n as usize);
     row.cpu_percent = f("cpu_percent");
     row.peak_rss_mb = f("peak_rss_mb");
     row.playback_speed = f("playback_speed");

@@ -37,6 +37,9 @@ pub struct Row {
     /// The run was found finished and not run again.
     pub resumed: bool,
     pub frames: Option<usize>,
+    /// Frames whose registration could not constrain the pose (summary.json's
+    /// `frames_degenerate`: too few points, a direction without information).
+    pub degenerate_frames: Option<usize>,
     /// Poses paired with ground truth (APE is over these).
     pub associated_poses: Option<usize>,
     pub trans_mean_m: Option<f64>,

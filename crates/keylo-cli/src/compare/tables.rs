@@ -10,7 +10,7 @@ use super::association;
 use super::row::{describe, Criterion, Row};
 
 /// Columns of the full table: (JSON/CSV field, Markdown header, decimals).
-const COLUMNS: [(&str, &str, usize); 26] = [
+const COLUMNS: [(&str, &str, usize); 27] = [
     ("data", "data", 0),
     ("variant", "variant", 0),
     ("config", "config", 0),
@@ -20,6 +20,7 @@ const COLUMNS: [(&str, &str, usize); 26] = [
     ("reason", "reason", 0),
     ("resumed", "resumed", 0),
     ("frames", "frames", 0),
+    ("degenerate_frames", "degenerate frames", 0),
     ("associated_poses", "poses vs GT", 0),
     ("trans_mean_m", "trans. mean (m)", 3),
     ("trans_rmse_m", "trans. RMSE (m)", 3),
@@ -116,6 +117,7 @@ pub fn markdown(rows: &[Row], crit: &Criterion) -> String {
     md.push_str("\n## Every run\n\n");
     md.push_str(&full_table(rows));
     md.push_str(&association::markdown(rows));
+    md.push_str(&degenerate_note(rows));
     let _ = write!(md, "\nDivergence criterion: {}.\n", describe(crit));
     md.push_str(
         "Errors are after SE(3) Umeyama alignment of the positions (as `evo_ape -a`); on a \
@@ -136,7 +138,9 @@ fn unique(items: impl Iterator<Item = String>) -> Vec<String> {
 }
 
 fn accuracy_cell(r: &Row) -> String {
-    let poor = association::low(r).map(|c| format!("only {} poses associated", c.ratio()));
+    let poor = association::low(r)
+        .map(|c| format!("only {} poses associated", c.ratio()))
+        .or_else(|| degenerate_mark(r));
     if r.verdict != "ok" {
         return match poor {
             Some(p) => format!("N/A ({}; {p})", r.verdict),
@@ -149,6 +153,40 @@ fn accuracy_cell(r: &Row) -> String {
         (_, _, _, Some(p)) => format!("- ({p})"),
         _ => "- (no ground truth)".into(),
     }
+}
+
+/// `3 of 100 frames degenerate` for a run with degenerate frames.
+fn degenerate_mark(r: &Row) -> Option<String> {
+    let n = r.degenerate_frames.filter(|&n| n > 0)?;
+    Some(match r.frames {
+        Some(total) => format!("{n} of {total} frames degenerate"),
+        None => format!("{n} frames degenerate"),
+    })
+}
+
+/// The note under the tables naming the runs with degenerate frames, if any.
+fn degenerate_note(rows: &[Row]) -> String {
+    let marked: Vec<String> = rows
+        .iter()
+        .filter_map(|r| {
+            Some(format!(
+                "{} on {}: {}",
+                r.variant,
+                r.data,
+                degenerate_mark(r)?
+            ))
+        })
+        .collect();
+    if marked.is_empty() {
+        return String::new();
+    }
+    format!(
+        "\n**Degenerate frames** (the registration could not constrain the pose: fewer \
+         registered points than the registrar's minimum, or a direction without information; \
+         their poses are, at least in part, the motion model's prediction; each run's \
+         frames.csv flags them): {}.\n",
+        marked.join("; ")
+    )
 }
 
 fn find<'a>(rows: &'a [Row], variant: &str, data: &str) -> Option<&'a Row> {
@@ -214,7 +252,13 @@ fn performance(rows: &[Row], data: &str, variants: &[String]) -> String {
             Box::new(|r| opt(r.odometry_hz, 1)),
         ),
         ("Rate / raw cloud", Box::new(|r| opt(r.rate_vs_raw, 2))),
-        ("Verdict", Box::new(|r| r.verdict.clone())),
+        (
+            "Verdict",
+            Box::new(|r| match degenerate_mark(r) {
+                Some(m) if r.verdict == "ok" => format!("ok ({m})"),
+                _ => r.verdict.clone(),
+            }),
+        ),
     ];
     for (name, f) in &lines {
         let cells: Vec<String> = runs.iter().map(|r| f(r)).collect();

@@ -12,7 +12,7 @@ mod resolve;
 mod trust;
 mod typed;
 
-pub use output::{OnBadFrame, OutputConfig};
+pub use output::{OnBadFrame, OnDegenerate, OutputConfig};
 pub use plugins::PluginsConfig;
 pub use raw::RawConfig;
 pub use render::{allowed_values, render_resolved, resolve_ref, unset_keys};

@@ -16,6 +16,21 @@ pub enum OnBadFrame {
     Skip,
 }
 
+/// `output.on_degenerate`: what a degenerate frame does to a run (too few registered points,
+/// or a pose direction without information; see `keylo_core::Degenerate`).
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum OnDegenerate {
+    /// A warning naming the frame; the frame is flagged in frames.csv and summary.json and
+    /// the run goes on.
+    #[default]
+    Warn,
+    /// Stop the run at the frame with an error; the frames before it are written.
+    Error,
+}
+
 /// `[output]`: where and what a run writes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default, deny_unknown_fields)]
@@ -31,6 +46,12 @@ pub struct OutputConfig {
     /// What to do with a frame a stage rejects (empty, all-NaN): `stop` or `skip`. A frame the
     /// source cannot read always stops the run.
     pub on_bad_frame: OnBadFrame,
+    /// What a degenerate frame does: `warn` (flag it, go on) or `error` (stop there, keeping
+    /// the frames before). A frame is degenerate when the registrar used fewer points than
+    /// its minimum (KISS-ICP 3, the others 6) or its degeneracy analysis finds a pose
+    /// direction with no information. A run whose every frame is degenerate exits with
+    /// status 4 either way.
+    pub on_degenerate: OnDegenerate,
     /// Write the trajectory files' numbers in their shortest exact form (`1.2345678901234567e0`)
     /// instead of 9 decimals (TUM) or 13 digits (KITTI): read back, bit for bit the poses.
     pub exact: bool,
@@ -53,6 +74,7 @@ impl Default for OutputConfig {
             kitti: true,
             gt: String::new(),
             on_bad_frame: OnBadFrame::Stop,
+            on_degenerate: OnDegenerate::Warn,
             exact: false,
             pose_graph: false,
             covariance_sigma_m: 0.0,

@@ -55,6 +55,9 @@ pub struct FrameResult {
     pub converged: bool,
     /// The registrar's degeneracy analysis of this frame, when it makes one.
     pub degeneracy: Option<crate::Degeneracy>,
+    /// Why the registration could not constrain the pose, when it could not (too few points,
+    /// a direction without information): the pose is then (partly) the prediction.
+    pub degenerate: Option<crate::Degenerate>,
     /// How well the frame fits the prior map, when the registrar localises in one.
     pub fit: Option<crate::MapFit>,
     pub timings: StageTimings,
@@ -76,6 +79,7 @@ impl FrameResult {
             iterations: 0,
             converged: true,
             degeneracy: None,
+            degenerate: None,
             fit: None,
             timings: StageTimings::default(),
         }
@@ -279,6 +283,11 @@ impl Odometry {
             map_points: self.registrar.map_size(),
             iterations: reg.iterations,
             converged: reg.converged,
+            degenerate: crate::Degenerate::of(
+                reg.source_points,
+                self.registrar.min_points(),
+                reg.degeneracy.as_ref(),
+            ),
             degeneracy: reg.degeneracy,
             fit: reg.fit,
             timings,

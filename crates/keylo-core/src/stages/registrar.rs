@@ -74,6 +74,13 @@ pub trait Registrar: Send {
         false
     }
 
+    /// The registered points ([`Registration::source_points`]) below which this registrar
+    /// cannot constrain six degrees of freedom: such a frame is reported degenerate
+    /// ([`crate::Degenerate`]). By default [`crate::degenerate::DEFAULT_MIN_POINTS`] (six).
+    fn min_points(&self) -> usize {
+        crate::degenerate::DEFAULT_MIN_POINTS
+    }
+
     /// SLAM hook: the motion from the last registered frame to the next one (sensor frame
     /// of the last, as `last_pose⁻¹ · next_pose`), e.g. from an IMU or wheel odometry. The
     /// next call to `register` uses it instead of its own motion model (constant velocity)

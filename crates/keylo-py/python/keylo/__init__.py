@@ -155,6 +155,7 @@ def _run(config, data, gt, source, trust_plugins=False):
             "keypoints": r.keypoint_count, "cloud_points": r.cloud_points,
             "registered_points": r.registered_points, "map_points": r.map_points,
             "iterations": r.iterations, "converged": r.converged,
+            "degenerate": (r.degenerate or {}).get("reason"),
             "odometry_ms": 1e3 * r.timings["total"],
         })
     truth = _ground_truth(gt, table, folder, path, reader)

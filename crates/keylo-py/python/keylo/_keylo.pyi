@@ -34,6 +34,10 @@ class FrameResult:
     @property
     def registered_points(self) -> int: ...
     @property
+    def degenerate(self) -> dict[str, Any] | None:
+        """Why the registration could not constrain the pose (`reason`: `too-few-points` with
+        `points`/`minimum`, `no-information` with `directions`), or None."""
+    @property
     def map_points(self) -> int: ...
     @property
     def iterations(self) -> int: ...

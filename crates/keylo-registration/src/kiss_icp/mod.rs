@@ -456,6 +456,11 @@ impl Registrar for KissIcp {
         self.config.empty_frame == EmptyFrame::Predict
     }
 
+    /// Three: point-to-point residuals of three non-collinear points fix a rigid motion.
+    fn min_points(&self) -> usize {
+        3
+    }
+
     fn set_motion_prior(&mut self, delta: &Isometry3<f64>) -> Result<(), CoreError> {
         frame_step::check_prior(delta, self.config.max_motion_per_frame)?;
         self.prior = Some(*delta);
