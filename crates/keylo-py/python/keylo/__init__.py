@@ -85,7 +85,8 @@ def run(config=None, data=None, gt=None, trust_plugins=False, **source):
     truth (the simulator's).
 
     Returns ``(records, summary)``: one dict per frame (``index``, ``stamp``, ``x``, ``y``,
-    ``z``, point counts, ``iterations``, ``converged``, ``odometry_ms``), pandas-friendly, and
+    ``z``, point counts, ``iterations``, ``converged``, ``degenerate`` — None, or the reason
+    the registration could not constrain the pose —, ``odometry_ms``), pandas-friendly, and
     a dict with ``frames``, ``mean_cloud_points``, ``mean_registered_points``,
     ``mean_odometry_ms``, ``odometry_hz``, ``trajectory`` (N×4×4), ``stamps``, ``ground_truth``
     (``(stamps, poses)`` or a path, None without), ``accuracy`` (``keylo.evaluate``'s
@@ -205,7 +206,7 @@ def _label(config):
 #: The columns of ``compare``'s records, in ``keylo compare``'s order (compare.csv).
 COMPARE_COLUMNS = (
     "data", "variant", "config", "registrar", "downsampler", "verdict", "reason", "frames",
-    "associated_poses", "trans_mean_m", "trans_rmse_m", "trans_max_m", "rot_mean_deg",
+    "degenerate_frames", "associated_poses", "trans_mean_m", "trans_rmse_m", "trans_max_m", "rot_mean_deg",
     "rot_rmse_deg", "rpe_trans_m", "rpe_rot_deg", "cpu_percent", "peak_rss_mb",
     "frames_late", "mean_points", "mean_registered_points", "odometry_hz", "rate_vs_raw",
 )
@@ -219,7 +220,9 @@ def _compare_row(config, data, gt, source, criterion, trust_plugins=False):
     except KeyloError as e:
         row.update(verdict="failed", reason=str(e), frames=0)
         return row
-    row.update(frames=summary["frames"], registrar=summary["kinds"]["registrar"],
+    flagged = [r["degenerate"] for r in records if r["degenerate"]]
+    row.update(frames=summary["frames"], degenerate_frames=len(flagged),
+               registrar=summary["kinds"]["registrar"],
                downsampler=summary["kinds"]["downsampler"],
                mean_points=summary["mean_cloud_points"],
                mean_registered_points=summary["mean_registered_points"],
@@ -230,8 +233,14 @@ def _compare_row(config, data, gt, source, criterion, trust_plugins=False):
     if records:
         row.update(judge(summary["trajectory"], est_stamps=summary["stamps"],
                          **_truth_args(summary["ground_truth"]), **criterion))
+    after_first = sum(1 for r in records[1:] if r["degenerate"])
+    all_degenerate = (len(records) == 1 and flagged) or (
+        len(records) > 1 and after_first == len(records) - 1)
     if error is not None:
         row.update(verdict="failed", reason=f"stopped at frame {len(records)}: {error}")
+    elif all_degenerate:
+        row.update(verdict="failed", reason=f"every frame after the first degenerate "
+                   f"({flagged[0]}): the trajectory is the motion model's prediction, not odometry")
     elif summary["interrupted"]:
         row.update(verdict="failed", reason=f"interrupted after {len(records)} frames")
     elif not records:
@@ -248,7 +257,7 @@ def compare(configs, data=None, grid=None, gt=None, max_ape=2.0, max_step=5.0,
 
     Returns one record per run with ``keylo compare``'s columns (``COMPARE_COLUMNS``:
     ``data``, ``variant``, ``config``, stage kinds, ``verdict`` — ``ok``, ``diverged`` or
-    ``failed`` —, ``reason``, ``frames``, the aligned APE figures ``trans_*_m``/``rot_*_deg``
+    ``failed`` —, ``reason``, ``frames``, ``degenerate_frames``, the aligned APE figures ``trans_*_m``/``rot_*_deg``
     over poses paired within ``t_max_diff`` s, RPE, points per frame, ``odometry_hz`` and
     ``rate_vs_raw``) plus one column per grid key. A run is diverged when a pose is not
     finite, a step between poses exceeds ``max_step`` m or the APE exceeds ``max_ape`` m;
