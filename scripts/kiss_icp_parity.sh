@@ -25,8 +25,8 @@ run_case() {
   local name="$1" scene="$2" sim_sets="$3" reg_sets="$4" yaml="$5"
   local d="$OUT/$name"; rm -rf "$d"; mkdir -p "$d"
   local sets=(); for s in $sim_sets; do sets+=(--set "$s"); done
-  "$K" sim -q --scene "$scene" --frames "$FRAMES" --format kitti-bin --out "$d/bin" "${sets[@]}"
-  "$K" sim -q --scene "$scene" --frames "$FRAMES" --out "$d/frames" "${sets[@]}"
+  "$K" sim -q --scene "$scene" --set appearance=ideal --frames "$FRAMES" --format kitti-bin --out "$d/bin" "${sets[@]}"
+  "$K" sim -q --scene "$scene" --set appearance=ideal --frames "$FRAMES" --out "$d/frames" "${sets[@]}"
   local up_args=()
   if [ -n "$yaml" ]; then printf '%b' "$yaml" > "$d/upstream.yaml"; up_args=(--config "$d/upstream.yaml"); fi
   bash "$PEERS/kiss_icp_reference.sh" "$d/bin/velodyne" "$d/upstream" "${up_args[@]}" >&2
@@ -140,7 +140,7 @@ for seq in 00 01; do
 done
 syn="$OUT/synthetic-unorganised"
 if [ ! -d "$syn/velodyne" ]; then
-  "$K" sim -q --scene road --frames "$FRAMES" --format kitti-bin --out "$syn" \
+  "$K" sim -q --scene road --set appearance=ideal --frames "$FRAMES" --format kitti-bin --out "$syn" \
     --set columns=2048 --set motion_distortion=false --set seed=0
 fi
 run_bin_case "synthetic-os0-128x2048-road" "$syn/velodyne" "$syn/gt.tum" "" "" ""

@@ -38,6 +38,8 @@ fn run_frames(toml: &str, frames: usize) -> (Accuracy, Vec<usize>) {
     let registry = keylo::registry();
     let mut raw = RawConfig::parse("test", toml).unwrap();
     raw.set(&format!("source.frames={frames}")).unwrap();
+    // The appearance these tests' bounds were set on (the default until 2026-12-05).
+    raw.set("source.appearance=ideal").unwrap();
     let config = registry.resolve(&raw).unwrap();
     let mut pipeline = Pipeline::build(&config, &registry).unwrap();
     let (mut est, mut weak) = (Trajectory::default(), Vec::new());

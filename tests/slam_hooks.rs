@@ -8,10 +8,10 @@ use nalgebra::{Translation3, UnitQuaternion};
 
 /// Moving frames of the simulated corridor at a brisk 0.96 m per frame with a 20 m range, where
 /// the walls constrain motion along the corridor only weakly (no motion distortion, full
-/// speed from the start).
+/// speed from the start; the `ideal` appearance the test was set up on).
 const SOURCE: &str = "[source]\nkind = 'sim'\nscene = 'corridor'\nsensor = 'os1-64'\n\
                       columns = 512\nmotion_distortion = false\nstart_ramp_s = 0\n\
-                      speed_scale = 8\nmax_range_m = 20\n";
+                      speed_scale = 8\nmax_range_m = 20\nappearance = 'ideal'\n";
 
 fn resolve(extra: &str) -> (keylo::Registry, keylo::config::PipelineConfig) {
     common::resolve(&format!("{SOURCE}{extra}"))

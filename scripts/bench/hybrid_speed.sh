@@ -17,7 +17,7 @@ mkdir -p "$out"
 P=configs/paper; E=configs/examples
 sim() { # name scene frames [--set ...]
     local name=$1 scene=$2 frames=$3; shift 3
-    [ -f "$out/$name/gt.tum" ] || "$keylo" -q sim --scene "$scene" --frames "$frames" "$@" --out "$out/$name"
+    [ -f "$out/$name/gt.tum" ] || "$keylo" -q sim --scene "$scene" --set appearance=ideal --frames "$frames" "$@" --out "$out/$name"
 }
 sim lab lab 100
 sim road road 100

@@ -12,7 +12,7 @@ CLASSIC=AKAZE_AKAZE,BRISK_BRIEF,BRISK_BRISK,BRISK_FREAK,BRISK_SIFT,FAST_BRIEF,FA
 mkdir -p "$OUT"
 cargo build --release -p keylo-cli -q --manifest-path "$ROOT/Cargo.toml"
 for scene in lab corridor road; do
-  [ -d "$OUT/sim-$scene" ] || "$K" sim --scene "$scene" --frames 100 --out "$OUT/sim-$scene" -q
+  [ -d "$OUT/sim-$scene" ] || "$K" sim --scene "$scene" --set appearance=ideal --frames 100 --out "$OUT/sim-$scene" -q
 done
 t() { /usr/bin/time -f "%e s wall, %M KB peak RSS" "$@"; }
 echo "== real OS0-128 signal, 2 frames (1 pair), paper combinations"

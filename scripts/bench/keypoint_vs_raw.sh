@@ -15,7 +15,7 @@ trap 'rm -rf "$work"' EXIT
 data="${1:-}"
 if [ -z "$data" ]; then
   data="$work/lab"
-  "$keylo" sim --scene lab --frames "$frames" --out "$data" -q >/dev/null
+  "$keylo" sim --scene lab --set appearance=ideal --frames "$frames" --out "$data" -q >/dev/null
 fi
 for cfg in raw-kiss-icp indoor-akaze-kiss-icp outdoor-akaze-kiss-icp ${KEYLO_BENCH_EXTRA:-} "$@"; do
   case "$cfg" in *-kiss-icp) ;; *) continue ;; esac

@@ -12,9 +12,9 @@ out=${1:-/tmp/odo}
 P=configs/paper
 mkdir -p "$out"
 for s in lab corridor road; do
-    [ -f "$out/$s/gt.tum" ] || "$keylo" -q sim --scene "$s" --frames 200 --out "$out/$s"
+    [ -f "$out/$s/gt.tum" ] || "$keylo" -q sim --scene "$s" --set appearance=ideal --frames 200 --out "$out/$s"
 done
-[ -f "$out/lab1000/gt.tum" ] || "$keylo" -q sim --scene lab --frames 1000 --out "$out/lab1000"
+[ -f "$out/lab1000/gt.tum" ] || "$keylo" -q sim --scene lab --set appearance=ideal --frames 1000 --out "$out/lab1000"
 seqs=(--data "$out/lab" --data "$out/corridor" --data "$out/road")
 run() { # NAME ARGS...: one compare into OUT/NAME, timed
     local name=$1 start

@@ -111,7 +111,7 @@ mod tests {
         assert_eq!(read("trajectory.kitti").lines().count(), 1);
         assert_eq!(
             read("frames.csv"),
-            format!("{FRAMES_CSV_HEADER}\n0,0.100000,5,100,90,400,12.500,70.0\n")
+            format!("{FRAMES_CSV_HEADER}\n0,0.100000,5,100,90,400,12.500,70.0,\n")
         );
         let mut traj = keylo::Trajectory::default();
         traj.push(0.1, Pose::translation(1.0, 2.0, 3.0));

@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 
 use keylo_core::Channel;
-use keylo_features::image::{Interpolation, Normalise};
+use keylo_features::image::{Interpolation, Normalise, NormaliseMethod};
 use serde::{Deserialize, Serialize};
 
 use crate::{KpEvalError, MetricParams};
@@ -38,8 +38,12 @@ pub struct ImageSpec {
     pub height: usize,
     /// `nearest`, `linear`, `cubic`, `area` or `lanczos4`.
     pub interpolation: Interpolation,
-    /// How the channel becomes 8-bit (also applied to 16-bit PNG images).
-    pub normalise: Normalise,
+    /// How the channel becomes 8-bit (also applied to 16-bit PNG images). Not set: the
+    /// signal of an Ouster sensor's frames (simulated or recorded: beam model `OS…`) as
+    /// Ouster's ROS driver makes its signal images (`method = "ouster-ros"`), which is how the
+    /// real images of the paper's study were made; anything else the `percentile` stretch.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normalise: Option<Normalise>,
 }
 
 impl Default for ImageSpec {
@@ -49,12 +53,35 @@ impl Default for ImageSpec {
             width: 1024,
             height: 64,
             interpolation: Interpolation::Linear,
-            normalise: Normalise::default(),
+            normalise: None,
         }
     }
 }
 
 impl ImageSpec {
+    /// The normalisation of `channel` of frames from a sensor of beam model `model`: the
+    /// one set, else the driver's for an Ouster sensor's signal, else the default stretch.
+    pub fn normalise_for(&self, channel: Channel, model: &str) -> Normalise {
+        if let Some(n) = &self.normalise {
+            return n.clone();
+        }
+        let ouster = model.get(..2).is_some_and(|p| p.eq_ignore_ascii_case("os"));
+        if ouster && channel == Channel::Signal {
+            Normalise {
+                method: NormaliseMethod::OusterRos,
+                ..Normalise::default()
+            }
+        } else {
+            Normalise::default()
+        }
+    }
+
+    /// The normalisation of 16-bit PNG images (8-bit ones are taken as they are): the one
+    /// set, else the default stretch.
+    pub fn png_normalise(&self) -> Normalise {
+        self.normalise.clone().unwrap_or_default()
+    }
+
     /// The channel, parsed.
     pub fn channel(&self) -> Result<Channel, KpEvalError> {
         self.channel
@@ -98,10 +125,10 @@ impl EvalSpec {
             },
             other => other,
         })?;
-        self.image
-            .normalise
-            .validate("image.normalise")
-            .map_err(|e| KpEvalError::setting(origin, "image.normalise", e.to_string()))?;
+        if let Some(n) = &self.image.normalise {
+            n.validate("image.normalise")
+                .map_err(|e| KpEvalError::setting(origin, "image.normalise", e.to_string()))?;
+        }
         self.metrics.validate(origin)
     }
 
@@ -214,5 +241,36 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("my.toml") && e.contains("metrics"), "{e}");
+    }
+
+    #[test]
+    fn an_ouster_sensors_signal_is_normalised_as_its_driver_does_unless_set() {
+        let spec = EvalSpec::default();
+        let method = |c, m| spec.image.normalise_for(c, m).method;
+        assert_eq!(
+            method(Channel::Signal, "OS0-128"),
+            NormaliseMethod::OusterRos
+        );
+        assert_eq!(
+            method(Channel::Signal, "os-1-64"),
+            NormaliseMethod::OusterRos
+        );
+        assert_eq!(
+            method(Channel::Range, "OS0-128"),
+            NormaliseMethod::Percentile
+        );
+        assert_eq!(
+            method(Channel::Signal, "HDL-64E"),
+            NormaliseMethod::Percentile
+        );
+        assert_eq!(
+            spec.image.png_normalise().method,
+            NormaliseMethod::Percentile
+        );
+        let set = EvalSpec::from_toml("[image.normalise]\nmethod = \"equalise\"\n", "t").unwrap();
+        assert_eq!(
+            set.image.normalise_for(Channel::Signal, "OS0-128").method,
+            NormaliseMethod::Equalise
+        );
     }
 }

@@ -34,10 +34,12 @@ use crate::partial_drops::PartialDrops;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Appearance {
-    /// The shading model alone.
-    #[default]
+    /// The shading model alone (the default until 2026-12-05; parity tests and fixtures ask
+    /// for it by name).
     Ideal,
-    /// With the signal level and beam gains of a real Ouster OS0-128.
+    /// With the signal level and beam gains of a real Ouster OS0-128: the default, as every
+    /// simulated sensor is an Ouster.
+    #[default]
     Ouster,
 }
 

@@ -81,7 +81,8 @@ pub struct SimConfig {
     /// Multiplier of the scene's sway (the small yaw, pitch, roll and height oscillation of a
     /// carried sensor); 0 with `speed_scale = 0` holds the sensor still.
     pub sway_scale: f64,
-    /// `ideal` (the shading model alone), or `ouster`: what real OS0-128 signal images show
+    /// `ouster` (the default; every simulated sensor is an Ouster), or `ideal` (the shading
+    /// model alone, the default until 2026-12-05): `ouster` is what real OS0-128 signal images show
     /// — their signal level in counts, per-beam gains that wander with range, shot noise,
     /// near-field and grazing fall-off, weak returns that break up, pixels that read a
     /// fraction of their signal now and then or beside a range jump, and (OS0-128) a real
@@ -108,7 +109,7 @@ impl Default for SimConfig {
             speed_scale: 1.0,
             start_ramp_s: 2.0,
             sway_scale: 1.0,
-            appearance: crate::Appearance::Ideal,
+            appearance: crate::Appearance::Ouster,
         }
     }
 }

@@ -36,7 +36,7 @@ fn the_plugin_is_evaluated_with_every_metric() {
         planes.push(Plane::from_frame(
             &frame,
             Channel::Range,
-            &spec.image.normalise,
+            &spec.image.normalise_for(Channel::Range, &frame.beams.model),
             String::new(),
         ));
     }

@@ -165,7 +165,7 @@ pub fn planes(args: &InputArgs, spec: &EvalSpec) -> Result<Vec<Plane>> {
             match wanted(i, args) {
                 None => break,
                 Some(false) => continue,
-                Some(true) => out.push(Plane::from_png(p, &spec.image.normalise)?),
+                Some(true) => out.push(Plane::from_png(p, &spec.image.png_normalise())?),
             }
         }
         return Ok(out);
@@ -188,7 +188,7 @@ pub fn planes(args: &InputArgs, spec: &EvalSpec) -> Result<Vec<Plane>> {
             Some(true) => out.push(Plane::from_frame(
                 &frame,
                 channel,
-                &spec.image.normalise,
+                &spec.image.normalise_for(channel, &frame.beams.model),
                 format!("frame {i}"),
             )),
         }

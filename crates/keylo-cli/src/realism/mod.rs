@@ -3,7 +3,9 @@
 //! intensity and gradient-magnitude histograms, for every simulated channel against a folder
 //! of real images.
 
+mod motion;
 mod report;
+mod side_by_side;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -29,9 +31,21 @@ pub struct RealismArgs {
     /// ../shared/data/tiers_signal (OS0-128 signal images of Ouster's ROS driver).
     #[arg(long)]
     pub real: PathBuf,
-    /// Real images used (the first N).
+    /// Real images used (N from `--real-start`).
     #[arg(long, default_value_t = 100)]
     pub real_frames: usize,
+    /// First real image used (in name order). The `ouster` lab was tuned on the TIERS images
+    /// 0–99 (the sensor nearly still); images it was not tuned on: 100 on.
+    #[arg(long, default_value_t = 0)]
+    pub real_start: usize,
+    /// Also compare a moving simulated sensor with a moving real stretch: `--real-frames`
+    /// images from FIRST (e.g. 200: the TIERS sensor moves through the room from about image
+    /// 50 on), the simulated motion matched to the real one's (its speed scaled until the
+    /// median horizontal shift between consecutive images is the real stretch's), and report
+    /// still and moving side by side (realism.md; each in full in still/ and moving/). The
+    /// still half then holds the simulated sensor still.
+    #[arg(long, value_name = "FIRST")]
+    pub moving_start: Option<usize>,
     /// Scene simulated: lab, corridor, road, park (see `keylo sim --help`).
     #[arg(long, default_value = "lab")]
     pub scene: String,
@@ -79,9 +93,6 @@ pub struct ImageSet {
 }
 
 pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCode> {
-    let spec = EvalSpec::default();
-    let real = real_planes(&args, &spec.image.normalise)?;
-    let channels = channels(&args.channels)?;
     if args.frames < 2 {
         bail!(
             "--frames {}: the match metrics need at least 2",
@@ -91,64 +102,72 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     if args.seeds == 0 {
         bail!("--seeds 0: expected at least 1");
     }
-    let jobs = crate::keypoints::input::jobs(args.jobs, threads)?;
-    let mut inputs: Vec<(String, Vec<Vec<Plane>>)> = vec![("real".into(), vec![real])];
+    let channels = channels(&args.channels)?;
     let config = crate::cmd_sim::setup::sim_config(&args.scene, args.frames, &args.sets)?;
-    for k in 0..args.seeds {
-        let seeded = SimConfig {
-            seed: config.seed + k as u64,
-            ..config.clone()
-        };
-        let sim = Simulator::new(&seeded)?;
-        let sets = sim_planes(&sim, &channels, args.signal_scale);
-        if inputs.len() == 1 {
-            inputs.extend(sets.into_iter().map(|(name, p)| (name, vec![p])));
-        } else {
-            for ((_, runs), (_, p)) in inputs.iter_mut().skip(1).zip(sets) {
-                runs.push(p);
-            }
-        }
-    }
-    let registry = keylo::registry();
-    let set = keylo::kpeval::ComboSet::parse(&args.combos);
-    let combos = keylo::kpeval::parse_combos(&set, &registry).context("--combos")?;
+    let ctx = Protocol {
+        args: &args,
+        channels: &channels,
+        jobs: crate::keypoints::input::jobs(args.jobs, threads)?,
+        quiet,
+    };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    let ctx = BuildContext::default();
-    let mut sets = Vec::new();
-    for (name, runs) in inputs {
-        let bar = progress(quiet, &format!("{name:>18}"));
-        let tick = |done: usize, total: usize| {
-            bar.set_length(total as u64);
-            bar.set_position(done as u64);
-        };
-        let opts = EvalOptions {
-            jobs,
-            skip_unavailable: false,
-            progress: Some(&tick),
-        };
-        let (mut rows, mut moved) = (Vec::new(), Vec::new());
-        for planes in &runs {
-            let result = evaluate(planes, &combos, &spec, &registry, &ctx, &opts)
-                .with_context(|| format!("evaluating the {name} images"))?;
-            if let Some((combo, why)) = result.failed.first() {
-                bail!("{name} images: {combo} failed: {why}");
-            }
-            rows.extend(result.rows);
-            moved.extend(shifts(planes, &spec.image)?);
+    let Some(moving_start) = args.moving_start else {
+        let sets = ctx.protocol(args.real_start, &config, "")?;
+        let md = report::write(&args.out, &sets, &heading(&args, ""))?;
+        if !quiet {
+            print!("{md}");
+            println!("\nresults in {}", args.out.display());
         }
-        bar.finish_and_clear();
-        sets.push(ImageSet {
-            histograms: Histograms::of(runs.iter().flatten(), &spec.image)?,
-            shift: Quartiles::of(&moved).map(|q| q.median),
-            sequences: runs.len(),
-            summaries: summarise(&rows),
-            name,
-        });
+        return Ok(ExitCode::SUCCESS);
+    };
+    let still_config = SimConfig {
+        speed_scale: 0.0,
+        sway_scale: 0.0,
+        ..config.clone()
+    };
+    let still = ctx.protocol(args.real_start, &still_config, "still")?;
+    let real_moving = real_planes(
+        &args,
+        moving_start,
+        &EvalSpec::default().image.png_normalise(),
+    )?;
+    let real_shift = median_shift(&real_moving)?;
+    let motion = motion::matched(&config, real_shift, quiet)?;
+    let moving = ctx.protocol(moving_start, &motion.config, "moving")?;
+    for (name, sets) in [("still", &still), ("moving", &moving)] {
+        let dir = args.out.join(name);
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        report::write(&dir, sets, &heading(&args, name))?;
     }
-    let heading = format!(
-        "`keylo sim realism --real {} --real-frames {} --scene {} --frames {} --seeds {}{}`",
+    let md = side_by_side::write(
+        &args.out,
+        side_by_side::Halves {
+            still: &still,
+            moving: &moving,
+            still_first: args.real_start,
+            moving_first: moving_start,
+            motion: &motion,
+        },
+        &heading(&args, "both"),
+    )?;
+    if !quiet {
+        print!("{md}");
+        println!("\nresults in {}", args.out.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The command line, for the reports' headings; `half` names the half reported.
+fn heading(args: &RealismArgs, half: &str) -> String {
+    let moving = args
+        .moving_start
+        .map_or(String::new(), |m| format!(" --moving-start {m}"));
+    let line = format!(
+        "`keylo sim realism --real {} --real-start {} --real-frames {}{moving} --scene {} \
+         --frames {} --seeds {}{}`",
         args.real.display(),
+        args.real_start,
         args.real_frames,
         args.scene,
         args.frames,
@@ -158,27 +177,110 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
             .map(|s| format!(" --set {s}"))
             .collect::<String>()
     );
-    let md = report::write(&args.out, &sets, &heading)?;
-    if !quiet {
-        print!("{md}");
-        println!("\nresults in {}", args.out.display());
+    match half {
+        "" | "both" => line,
+        h => format!("{line} — the {h} half"),
     }
-    Ok(ExitCode::SUCCESS)
 }
 
-/// The first `--real-frames` PNG files of `--real`.
-fn real_planes(args: &RealismArgs, normalise: &Normalise) -> Result<Vec<Plane>> {
+/// The median horizontal shift between consecutive images of `planes`, pixels at the study's
+/// size.
+pub(crate) fn median_shift(planes: &[Plane]) -> Result<f64> {
+    let moved = shifts(planes, &EvalSpec::default().image)?;
+    Ok(Quartiles::of(&moved).map_or(0.0, |q| q.median))
+}
+
+/// What every protocol shares.
+struct Protocol<'a> {
+    args: &'a RealismArgs,
+    channels: &'a [Channel],
+    jobs: usize,
+    quiet: bool,
+}
+
+impl Protocol<'_> {
+    /// The real images from `real_first` and every simulated channel of `config`'s layouts
+    /// (seeds `seed` … `seed + seeds − 1`), evaluated: the real set first. `label` prefixes
+    /// the progress lines.
+    fn protocol(
+        &self,
+        real_first: usize,
+        config: &SimConfig,
+        label: &str,
+    ) -> Result<Vec<ImageSet>> {
+        let spec = EvalSpec::default();
+        let real = real_planes(self.args, real_first, &spec.image.png_normalise())?;
+        let mut inputs: Vec<(String, Vec<Vec<Plane>>)> = vec![("real".into(), vec![real])];
+        for k in 0..self.args.seeds {
+            let seeded = SimConfig {
+                seed: config.seed + k as u64,
+                ..config.clone()
+            };
+            let sim = Simulator::new(&seeded)?;
+            let sets = sim_planes(&sim, self.channels, self.args.signal_scale);
+            if inputs.len() == 1 {
+                inputs.extend(sets.into_iter().map(|(name, p)| (name, vec![p])));
+            } else {
+                for ((_, runs), (_, p)) in inputs.iter_mut().skip(1).zip(sets) {
+                    runs.push(p);
+                }
+            }
+        }
+        let registry = keylo::registry();
+        let set = keylo::kpeval::ComboSet::parse(&self.args.combos);
+        let combos = keylo::kpeval::parse_combos(&set, &registry).context("--combos")?;
+        let ctx = BuildContext::default();
+        let mut sets = Vec::new();
+        for (name, runs) in inputs {
+            let bar = progress(self.quiet, &format!("{label:>6} {name:>18}"));
+            let tick = |done: usize, total: usize| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            };
+            let opts = EvalOptions {
+                jobs: self.jobs,
+                skip_unavailable: false,
+                progress: Some(&tick),
+            };
+            let (mut rows, mut moved) = (Vec::new(), Vec::new());
+            for planes in &runs {
+                let result = evaluate(planes, &combos, &spec, &registry, &ctx, &opts)
+                    .with_context(|| format!("evaluating the {name} images"))?;
+                if let Some((combo, why)) = result.failed.first() {
+                    bail!("{name} images: {combo} failed: {why}");
+                }
+                rows.extend(result.rows);
+                moved.extend(shifts(planes, &spec.image)?);
+            }
+            bar.finish_and_clear();
+            sets.push(ImageSet {
+                histograms: Histograms::of(runs.iter().flatten(), &spec.image)?,
+                shift: Quartiles::of(&moved).map(|q| q.median),
+                sequences: runs.len(),
+                summaries: summarise(&rows),
+                name,
+            });
+        }
+        Ok(sets)
+    }
+}
+
+/// `--real-frames` PNG files of `--real` from the `first` (in name order).
+fn real_planes(args: &RealismArgs, first: usize, normalise: &Normalise) -> Result<Vec<Plane>> {
     let files = crate::keypoints::input::png_files(&args.real);
-    if files.len() < 2 {
+    let wanted = args.real_frames.max(2);
+    if files.len() < first + 2 {
         bail!(
-            "--real {}: expected a folder with at least 2 PNG images, found {}",
+            "--real {}: expected at least 2 PNG images from image {first} on, the folder has \
+             {} in all",
             args.real.display(),
             files.len()
         );
     }
     files
         .iter()
-        .take(args.real_frames.max(2))
+        .skip(first)
+        .take(wanted)
         .map(|p| Plane::from_png(p, normalise).map_err(Into::into))
         .collect()
 }
@@ -201,7 +303,7 @@ fn channels(list: &str) -> Result<Vec<Channel>> {
 
 /// Every simulated frame's image of each channel: the signal as the real images were made
 /// (or `counts · scale`) and stretched as keylo does by default; other channels stretched.
-fn sim_planes(
+pub(crate) fn sim_planes(
     sim: &Simulator,
     channels: &[Channel],
     scale: Option<f64>,

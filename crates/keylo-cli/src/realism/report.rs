@@ -37,7 +37,7 @@ pub fn write(out: &Path, sets: &[ImageSet], heading: &str) -> Result<String> {
     Ok(md)
 }
 
-fn quartiles<'a>(set: &'a ImageSet, combo: &str, metric: &str) -> Option<&'a Quartiles> {
+pub(super) fn quartiles<'a>(set: &'a ImageSet, combo: &str, metric: &str) -> Option<&'a Quartiles> {
     set.summaries
         .iter()
         .find(|s| s.combo == combo)
@@ -45,11 +45,11 @@ fn quartiles<'a>(set: &'a ImageSet, combo: &str, metric: &str) -> Option<&'a Qua
 }
 
 /// Whether `q`'s median lies in the real interquartile range.
-fn inside(real: &Quartiles, q: &Quartiles) -> bool {
+pub(super) fn inside(real: &Quartiles, q: &Quartiles) -> bool {
     q.median >= real.q1 && q.median <= real.q3
 }
 
-fn close(real: &Quartiles, q: &Quartiles) -> bool {
+pub(super) fn close(real: &Quartiles, q: &Quartiles) -> bool {
     (q.median - real.median).abs() <= MATCH_TOLERANCE
 }
 
