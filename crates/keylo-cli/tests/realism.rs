@@ -114,3 +114,65 @@ fn realism_bad_input_is_named() {
         expect_failure(&keylo(&args, tmp.path()), 2, needle);
     }
 }
+
+#[test]
+fn still_and_moving_are_reported_side_by_side() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("realism");
+    let real = real_images();
+    let args = [
+        "sim",
+        "realism",
+        "--real",
+        real.to_str().unwrap(),
+        "--real-frames",
+        "2",
+        "--moving-start",
+        "0",
+        "--frames",
+        "3",
+        "--seeds",
+        "1",
+        "--set",
+        "sensor=os1-64",
+        "--set",
+        "columns=512",
+        "--channels",
+        "signal",
+        "--combos",
+        "ORB_ORB",
+        "--jobs",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let o = keylo(&args, tmp.path());
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let md = std::fs::read_to_string(out.join("realism.md")).unwrap();
+    for needle in [
+        "still and moving",
+        "**Still**: real images 0–1",
+        "**Moving**: real images 0–1",
+        "speed_scale = sway_scale = ",
+        "| keypoint count inside the real interquartile range | ",
+        "| ORB_ORB | keypoints | ",
+        "| ORB_ORB | match_score | ",
+    ] {
+        assert!(md.contains(needle), "realism.md lacks `{needle}`:\n{md}");
+    }
+    for half in ["still", "moving"] {
+        let full = std::fs::read_to_string(out.join(half).join("realism.md")).unwrap();
+        assert!(full.contains(&format!("the {half} half")), "{full}");
+    }
+    // The motion was matched: the rounds are printed with the real shift.
+    assert!(
+        common::stderr(&o).contains("motion, round 1"),
+        "{}",
+        common::stderr(&o)
+    );
+    // A moving stretch past the folder's end is named.
+    let mut bad = args.to_vec();
+    let at = bad.iter().position(|a| *a == "0").unwrap();
+    bad[at] = "1";
+    expect_failure(&keylo(&bad, tmp.path()), 2, "from image 1 on");
+}
