@@ -24,6 +24,9 @@ fn kitti(dir: &Path, frames: usize, points: impl Fn(usize) -> Vec<[f32; 3]>) {
     }
 }
 
+/// Scan `k` of a folder, as (x, y, z) points.
+type Scans = dyn Fn(usize) -> Vec<[f32; 3]>;
+
 /// A deterministic spread of `n` values in [-1, 1) (no random crate needed).
 fn spread(i: usize, n: usize, salt: usize) -> f32 {
     ((i * 7919 + salt * 104_729) % n) as f32 / n as f32 * 2.0 - 1.0
@@ -60,7 +63,7 @@ fn flags(out: &Path) -> Vec<String> {
 fn one_point_plane_line_and_duplicate_scans_are_reported_and_exit_4() {
     let tmp = tempfile::tempdir().unwrap();
     let n = 2000;
-    let cases: [(&str, Box<dyn Fn(usize) -> Vec<[f32; 3]>>, &str, usize); 4] = [
+    let cases: [(&str, Box<Scans>, &str, usize); 4] = [
         (
             "one",
             Box::new(|_| vec![[5.0, 1.0, 0.5]]),

@@ -246,23 +246,15 @@ mod tests {
     #[test]
     fn an_ouster_sensors_signal_is_normalised_as_its_driver_does_unless_set() {
         let spec = EvalSpec::default();
-        let method = |c, m| spec.image.normalise_for(c, m).method;
-        assert_eq!(
-            method(Channel::Signal, "OS0-128"),
-            NormaliseMethod::OusterRos
-        );
-        assert_eq!(
-            method(Channel::Signal, "os-1-64"),
-            NormaliseMethod::OusterRos
-        );
-        assert_eq!(
-            method(Channel::Range, "OS0-128"),
-            NormaliseMethod::Percentile
-        );
-        assert_eq!(
-            method(Channel::Signal, "HDL-64E"),
-            NormaliseMethod::Percentile
-        );
+        for (channel, model, want) in [
+            (Channel::Signal, "OS0-128", NormaliseMethod::OusterRos),
+            (Channel::Signal, "os-1-64", NormaliseMethod::OusterRos),
+            (Channel::Range, "OS0-128", NormaliseMethod::Percentile),
+            (Channel::Signal, "HDL-64E", NormaliseMethod::Percentile),
+        ] {
+            let got = spec.image.normalise_for(channel, model).method;
+            assert_eq!(got, want, "{channel:?} of {model}");
+        }
         assert_eq!(
             spec.image.png_normalise().method,
             NormaliseMethod::Percentile
