@@ -115,6 +115,26 @@ fn an_onnxruntime_path_in_a_config_is_refused_without_the_opt_in() {
         "-q",
     ]);
     s.refused(&o, "p/libmarker.so (detector.onnxruntime)");
+    // The same in a keypoint evaluation's settings.
+    std::fs::write(
+        s.path("shared/eval.toml"),
+        "[params.superpoint]\nonnxruntime = \"p/libmarker.so\"\n",
+    )
+    .unwrap();
+    let o = s.keylo(&[
+        "keypoints",
+        "eval",
+        "--data",
+        "data",
+        "--config",
+        "shared/eval.toml",
+        "--combos",
+        "ORB_ORB",
+        "--out",
+        "k",
+        "-q",
+    ]);
+    s.refused(&o, "p/libmarker.so (params.superpoint.onnxruntime)");
 }
 
 #[test]

@@ -8,6 +8,9 @@ use keylo_core::Channel;
 use keylo_features::image::{Interpolation, Normalise, NormaliseMethod};
 use serde::{Deserialize, Serialize};
 
+use keylo_core::config::Trust;
+use keylo_core::ConfigError;
+
 use crate::{KpEvalError, MetricParams};
 
 /// Starting parameters of every detector and descriptor.
@@ -130,6 +133,30 @@ impl EvalSpec {
                 .map_err(|e| KpEvalError::setting(origin, "image.normalise", e.to_string()))?;
         }
         self.metrics.validate(origin)
+    }
+
+    /// Refuses, under [`Trust::Installed`], a spec naming an ONNX Runtime library of its own
+    /// (`[params.<kind>] onnxruntime`): loading it would run its code (docs/plugins.md,
+    /// "Trust"). `origin` names the spec in the error.
+    pub fn check_trust(&self, origin: &str, trust: Trust) -> Result<(), ConfigError> {
+        let named: Vec<String> = self
+            .params
+            .iter()
+            .filter_map(|(kind, params)| {
+                let path = params
+                    .get("onnxruntime")?
+                    .as_str()
+                    .filter(|p| !p.is_empty())?;
+                Some(format!("{path} (params.{kind}.onnxruntime)"))
+            })
+            .collect();
+        if trust == Trust::Config || named.is_empty() {
+            return Ok(());
+        }
+        Err(ConfigError::Untrusted {
+            origin: origin.into(),
+            libraries: named.join(", "),
+        })
     }
 
     /// The parameter table of backend `kind` for images of `width × height`: the preset's,

@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use keylo::config::Trust;
 use keylo::kpeval::{evaluate, parse_combos, summarise, ComboSet, EvalOptions, EvalSpec, Plane};
 use keylo::BuildContext;
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
@@ -11,8 +12,9 @@ use pyo3::types::PyList;
 
 use crate::errors::{ConfigError, DataError, KeyloError, StageError};
 
-/// The spec: None (the paper's), TOML text, or a `.toml` file.
-fn spec_of(spec: Option<&str>) -> PyResult<(EvalSpec, PathBuf)> {
+/// The spec: None (the paper's), TOML text, or a `.toml` file; one naming an ONNX Runtime
+/// library of its own only when `trust` allows it.
+fn spec_of(spec: Option<&str>, trust: Trust) -> PyResult<(EvalSpec, PathBuf)> {
     let Some(text) = spec else {
         return Ok((EvalSpec::default(), PathBuf::from(".")));
     };
@@ -31,6 +33,8 @@ fn spec_of(spec: Option<&str>) -> PyResult<(EvalSpec, PathBuf)> {
     };
     let spec =
         EvalSpec::from_toml(&text, &origin).map_err(|e| ConfigError::new_err(e.to_string()))?;
+    spec.check_trust(&origin, trust)
+        .map_err(|e| ConfigError::new_err(e.to_string()))?;
     Ok((spec, base))
 }
 
@@ -40,15 +44,17 @@ fn spec_of(spec: Option<&str>) -> PyResult<(EvalSpec, PathBuf)> {
 /// evaluation spec (TOML text or file; None: the paper's settings). Returns `(rows,
 /// summaries, skipped)`: one dict per image and combination (the columns of
 /// `per_image.csv`), one per combination with every metric's quartiles, and the
-/// combinations this build cannot make with why.
+/// combinations this build cannot make with why. A spec naming an ONNX Runtime library of
+/// its own (`[params.<kind>] onnxruntime`) is refused unless `trust_plugins=True`.
 #[pyfunction]
-#[pyo3(signature = (images, combos="paper", spec=None, jobs=1))]
+#[pyo3(signature = (images, combos="paper", spec=None, jobs=1, *, trust_plugins=false))]
 pub fn evaluate_keypoints<'py>(
     py: Python<'py>,
     images: &Bound<'py, PyAny>,
     combos: &str,
     spec: Option<&str>,
     jobs: usize,
+    trust_plugins: bool,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Bound<'py, PyList>)> {
     let mut planes = Vec::new();
     for (i, item) in images.try_iter()?.enumerate() {
@@ -64,7 +70,12 @@ pub fn evaluate_keypoints<'py>(
             label: i.to_string(),
         });
     }
-    let (spec, base_dir) = spec_of(spec)?;
+    let trust = if trust_plugins {
+        Trust::Config
+    } else {
+        Trust::Installed
+    };
+    let (spec, base_dir) = spec_of(spec, trust)?;
     let registry = crate::detectors::registry(py)?;
     let set = ComboSet::parse(combos);
     let combos = parse_combos(&set, &registry).map_err(|e| ConfigError::new_err(e.to_string()))?;

@@ -51,3 +51,12 @@ def test_the_opt_in_loads_it(shared):
     with pytest.raises(keylo.PluginError, match="keylo_plugin_entry"):
         keylo.Odometry(str(shared / "plugin.toml"), trust_plugins=True)
     assert (shared / "marker").exists()
+
+
+def test_a_keypoint_spec_naming_its_own_runtime_is_refused(shared):
+    import numpy as np
+    images = [np.zeros((64, 256), np.uint8)] * 2
+    spec = f'[params.superpoint]\nonnxruntime = "{shared / "p/libmarker.so"}"\n'
+    with pytest.raises(keylo.ConfigError, match="params.superpoint.onnxruntime"):
+        keylo.keypoints.evaluate(images, combos="ORB_ORB", spec=spec)
+    assert not (shared / "marker").exists()

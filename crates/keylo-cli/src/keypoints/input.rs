@@ -3,7 +3,6 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use keylo::config::Trust;
 use keylo::kpeval::{EvalSpec, Plane};
 
 use super::InputArgs;
@@ -17,7 +16,7 @@ pub fn spec(args: &InputArgs) -> Result<EvalSpec> {
             let text = std::fs::read_to_string(p)
                 .with_context(|| format!("--config {}: cannot read", p.display()))?;
             let spec = EvalSpec::from_toml(&text, &p.display().to_string())?;
-            check_runtimes(&spec, p, args.trust.trust())?;
+            spec.check_trust(&format!("--config {}", p.display()), args.trust.trust())?;
             spec
         }
         None => EvalSpec::default(),
@@ -27,30 +26,6 @@ pub fn spec(args: &InputArgs) -> Result<EvalSpec> {
         spec.validate("--channel")?;
     }
     Ok(spec)
-}
-
-/// Refuses, unless trusted, a settings file naming an ONNX Runtime library of its own
-/// (`[params.<kind>] onnxruntime`): loading it would run its code (docs/plugins.md, "Trust").
-fn check_runtimes(spec: &EvalSpec, file: &Path, trust: Trust) -> Result<()> {
-    let named: Vec<String> = spec
-        .params
-        .iter()
-        .filter_map(|(kind, params)| {
-            let path = params
-                .get("onnxruntime")?
-                .as_str()
-                .filter(|p| !p.is_empty())?;
-            Some(format!("{path} (params.{kind}.onnxruntime)"))
-        })
-        .collect();
-    if trust == Trust::Installed && !named.is_empty() {
-        return Err(keylo::ConfigError::Untrusted {
-            origin: format!("--config {}", file.display()),
-            libraries: named.join(", "),
-        }
-        .into());
-    }
-    Ok(())
 }
 
 /// What both commands prepare before evaluating.

@@ -166,6 +166,11 @@ def judge(
     """`keylo compare`'s verdict (`ok`/`diverged`), its reason and the aligned-APE columns."""
 
 def evaluate_keypoints(
-    images: Any, combos: str = "paper", spec: str | None = None, jobs: int = 1
+    images: Any,
+    combos: str = "paper",
+    spec: str | None = None,
+    jobs: int = 1,
+    *,
+    trust_plugins: bool = False,
 ) -> tuple[list[dict[str, Any]], list[dict[str, Any]], list[tuple[str, str]]]:
     """See keylo.keypoints.evaluate."""
