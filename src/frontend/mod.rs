@@ -90,7 +90,7 @@ impl Frontend {
     /// A frontend from TOML text (a keylo config file's content); relative paths resolve
     /// against `base_dir`. `[source]` is not built: its `[source.projection]` table (if any)
     /// says how pushed point clouds become frames. A config naming libraries of its own
-    /// (`[plugins] dirs`, `onnxruntime`) is refused: see [`Frontend::from_toml_trusted`].
+    /// (`[plugins] dirs`, `onnxruntime`) is refused: see [`Frontend::from_toml_with`].
     pub fn from_toml(text: &str, base_dir: impl Into<PathBuf>) -> Result<Self, Error> {
         Self::from_toml_with(text, base_dir, Trust::Installed)
     }
@@ -322,7 +322,8 @@ pub(crate) fn odometry_of(
     keylo_plugin::load_for_config(&mut registry, &raw, trust)?;
     #[cfg(not(feature = "plugins"))]
     keylo_core::config::check_trust(&raw, trust, &[])?;
-    let config = registry.resolve(&raw)?;
+    let mut config = registry.resolve(&raw)?;
+    config.trust = trust;
     Ok(Odometry::build(&config, &registry)?)
 }
 

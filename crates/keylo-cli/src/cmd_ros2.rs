@@ -115,9 +115,9 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         if let Some(why) = p.result.degenerate {
             let name = format!("frame {}", p.result.index);
             degenerate.record(p.result.index, &name, why, p.result.cloud_points);
-            if config.output.on_degenerate == OnDegenerate::Error {
+            if config.output.on_degenerate == OnDegenerate::Error && degenerate.count == 1 {
                 tracing::error!(
-                    "{name}: output.on_degenerate = \"error\" does not stop a node; it goes on"
+                    "{name}: output.on_degenerate = \"error\" does not stop a node; it goes on (said once; every degenerate frame is warned about as above)"
                 );
             }
         }
@@ -211,7 +211,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
                 serde_json::Value::Array(list)
             }),
             source_counters: counters,
-            frames_degenerate: degenerate.frames.len(),
+            frames_degenerate: degenerate.count,
             degenerate: degenerate.frames.clone(),
             ..Summary::default()
         };

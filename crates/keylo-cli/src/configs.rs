@@ -65,7 +65,9 @@ fn finish(
         raw.set(s)?;
     }
     keylo::plugin::load_for_config(registry, &raw, trust)?;
-    Ok(registry.resolve(&raw)?)
+    let mut config = registry.resolve(&raw)?;
+    config.trust = trust;
+    Ok(config)
 }
 
 fn apply_data(registry: &Registry, raw: &mut RawConfig, data: &Path) -> Result<()> {

@@ -8,6 +8,10 @@ use serde::Serialize;
 /// Frames warned about one by one; the rest are counted (frames.csv flags each).
 const WARNED: usize = 10;
 
+/// Frames listed in summary.json at most (a node may run for days; frames.csv flags every
+/// one and `frames_degenerate` counts them all).
+const LISTED: usize = 100_000;
+
 /// One degenerate frame in summary.json: `{"frame": 3, "reason": "too-few-points",
 /// "points": 1, "minimum": 3}`.
 #[derive(Debug, Clone, Serialize)]
@@ -20,14 +24,18 @@ pub struct DegenerateFrame {
 /// The degenerate frames of a run so far.
 #[derive(Debug, Default)]
 pub struct DegenerateLog {
+    /// The first [`LISTED`] of them.
     pub frames: Vec<DegenerateFrame>,
+    /// All of them.
+    pub count: usize,
 }
 
 impl DegenerateLog {
     /// Records frame `frame` (`name` in messages, `cloud_points` handed to the registrar)
     /// and warns about it while fewer than [`WARNED`] were.
     pub fn record(&mut self, frame: u64, name: &str, why: Degenerate, cloud_points: usize) {
-        let n = self.frames.len();
+        let n = self.count;
+        self.count += 1;
         if n < WARNED {
             let hint = match why {
                 Degenerate::TooFewPoints { points: 0, .. } => format!(
@@ -43,17 +51,20 @@ impl DegenerateLog {
                  summary.json flag each"
             );
         }
-        self.frames.push(DegenerateFrame { frame, why });
+        if self.frames.len() < LISTED {
+            self.frames.push(DegenerateFrame { frame, why });
+        }
     }
 
     /// Whether no pose of a run of `frames` frames, the first at index `first`, came from a
     /// registration that constrained it: every frame after the first is degenerate (the
     /// first is the origin, registered against nothing), or the only frame is.
     pub fn all_of(&self, frames: usize, first: u64) -> bool {
-        let after_first = self.frames.iter().filter(|f| f.frame != first).count();
+        let listed_first = self.frames.iter().any(|f| f.frame == first);
+        let after_first = self.count - usize::from(listed_first);
         match frames {
             0 => false,
-            1 => !self.frames.is_empty(),
+            1 => self.count > 0,
             n => after_first >= n - 1,
         }
     }
@@ -64,7 +75,7 @@ impl DegenerateLog {
         Some(format!(
             "{} of {frames} frames degenerate (the first, frame {}: {}); frames.csv and \
              summary.json flag each",
-            self.frames.len(),
+            self.count,
             first.frame,
             first.why.describe()
         ))

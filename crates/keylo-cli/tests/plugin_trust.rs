@@ -103,6 +103,28 @@ fn a_configs_own_plugin_folder_loads_nothing_without_the_opt_in() {
 }
 
 #[test]
+fn a_plugin_name_with_a_path_in_it_is_refused_trusted_or_not() {
+    let s = Setup::new();
+    // Names that would reach the config's library from an installed folder's search.
+    let abs = s.path("shared/p/libmarker");
+    for name in ["../shared/p/libmarker", abs.to_str().unwrap()] {
+        let toml = format!("[detector]\nkind = \"plugin:{name}\"\n");
+        std::fs::write(s.path("path.toml"), toml).unwrap();
+        for trust in [false, true] {
+            let mut args = vec!["run", "path.toml", "--data", "data", "--out", "o", "-q"];
+            if trust {
+                args.push("--trust-plugins");
+            }
+            let o = s.keylo(&args);
+            let e = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{e}");
+            assert!(e.contains("a plugin name is letters, digits"), "{e}");
+            assert!(!s.marker().exists(), "{e}");
+        }
+    }
+}
+
+#[test]
 fn an_onnxruntime_path_in_a_config_is_refused_without_the_opt_in() {
     let s = Setup::new();
     let o = s.keylo(&[

@@ -19,9 +19,23 @@ use crate::CoreError;
 pub struct BuildContext {
     /// Directory that relative paths in the config are resolved against.
     pub base_dir: PathBuf,
+    /// Whether a stage may load a library its parameters name (`onnxruntime`): only under
+    /// [`crate::config::Trust::Config`] (docs/plugins.md, "Trust").
+    pub trust: crate::config::Trust,
 }
 
 impl BuildContext {
+    /// Refuses, unless trusted, a library path `value` named by parameter `key` of a stage.
+    pub fn check_library(&self, key: &str, value: &str) -> Result<(), crate::ConfigError> {
+        if value.is_empty() || self.trust == crate::config::Trust::Config {
+            return Ok(());
+        }
+        Err(crate::ConfigError::Untrusted {
+            origin: "the stage's parameters".into(),
+            libraries: format!("{value} ({key})"),
+        })
+    }
+
     /// `path` resolved against the config directory.
     pub fn resolve_path(&self, path: &str) -> PathBuf {
         let p = Path::new(path);

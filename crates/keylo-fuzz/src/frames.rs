@@ -29,6 +29,7 @@ pub fn frames_folder(data: &[u8]) {
         };
         let ctx = BuildContext {
             base_dir: dir.to_path_buf(),
+            ..Default::default()
         };
         if let Ok(mut source) = FramesSource::open(&config, &ctx) {
             crate::drain(&mut source);

@@ -36,6 +36,7 @@ pub fn kitti_folder(data: &[u8]) {
         };
         let ctx = BuildContext {
             base_dir: dir.to_path_buf(),
+            ..Default::default()
         };
         if let Ok(mut source) = KittiSource::open(&config, &ctx) {
             crate::drain(&mut source);

@@ -55,6 +55,7 @@ pub fn ouster_pcap(data: &[u8]) {
         };
         let ctx = BuildContext {
             base_dir: dir.to_path_buf(),
+            ..Default::default()
         };
         if let Ok(mut source) = OusterSource::open(&config, &ctx) {
             crate::drain(&mut source);

@@ -26,6 +26,7 @@ fn point_file(data: &[u8], format: PointFormat) {
         };
         let ctx = BuildContext {
             base_dir: dir.to_path_buf(),
+            ..Default::default()
         };
         if let Ok(mut source) = PointFilesSource::open(format, &config, &ctx) {
             crate::drain(&mut source);

@@ -32,6 +32,7 @@ fn recording(data: &[u8], name: &str, format: BagFormat) {
         let _ = bag_info(&path);
         let ctx = BuildContext {
             base_dir: dir.to_path_buf(),
+            ..Default::default()
         };
         // The seeds' layout (ouster-ros topics, images beside a 2-row organised cloud), then
         // the defaults (the only cloud topic, no images).

@@ -29,6 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let ctx = BuildContext {
         base_dir: PathBuf::from("."),
+        ..Default::default()
     };
     let (mut frames, mut checksum) = (0usize, 0.0f64);
     let (mut open_s, mut frames_s) = (0.0, 0.0);

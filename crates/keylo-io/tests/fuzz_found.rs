@@ -24,6 +24,7 @@ fn read_recording(path: &Path, format: BagFormat, limit: Duration) {
     };
     let ctx = BuildContext {
         base_dir: ".".into(),
+        ..Default::default()
     };
     if let Ok(mut source) = BagSource::open(&config, &ctx, format) {
         while let Some(Ok(_)) = source.next_frame() {}

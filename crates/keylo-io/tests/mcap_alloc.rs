@@ -349,6 +349,7 @@ fn list_and_read(path: &Path) -> (String, String) {
     };
     let ctx = BuildContext {
         base_dir: ".".into(),
+        ..Default::default()
     };
     let source = match BagSource::open(&config, &ctx, BagFormat::Mcap) {
         Ok(mut source) => std::iter::from_fn(|| source.next_frame())

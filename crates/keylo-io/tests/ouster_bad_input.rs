@@ -34,6 +34,7 @@ fn open(path: &Path, edit: impl FnOnce(&mut OusterSourceConfig)) -> Result<Ouste
     edit(&mut c);
     let ctx = BuildContext {
         base_dir: PathBuf::from("."),
+        ..Default::default()
     };
     OusterSource::open(&c, &ctx).map_err(|e| e.to_string())
 }

@@ -49,6 +49,7 @@ fn frames(pcap: &Path) -> Vec<LidarFrame> {
     };
     let ctx = BuildContext {
         base_dir: PathBuf::from("."),
+        ..Default::default()
     };
     let mut s = OusterSource::open(&config, &ctx).unwrap();
     std::iter::from_fn(|| s.next_frame())

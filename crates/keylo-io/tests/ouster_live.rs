@@ -31,6 +31,7 @@ fn meta() -> String {
 fn ctx() -> BuildContext {
     BuildContext {
         base_dir: PathBuf::from("."),
+        ..Default::default()
     }
 }
 

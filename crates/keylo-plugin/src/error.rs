@@ -46,6 +46,10 @@ pub enum PluginError {
         expected: String,
         found: String,
     },
+    /// A plugin name that is not a plain name (a path, `..`): it could name a file outside
+    /// every plugin folder.
+    #[error("`[{section}] kind = \"plugin:{name}\"`: a plugin name is letters, digits, `-` and `_` only (no path); install the library in a plugin folder and name it by its plugin name")]
+    BadName { section: String, name: String },
     /// The `[plugins]` section is invalid.
     #[error(transparent)]
     Config(#[from] keylo_core::ConfigError),

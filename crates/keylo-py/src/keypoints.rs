@@ -79,7 +79,7 @@ pub fn evaluate_keypoints<'py>(
     let registry = crate::detectors::registry(py)?;
     let set = ComboSet::parse(combos);
     let combos = parse_combos(&set, &registry).map_err(|e| ConfigError::new_err(e.to_string()))?;
-    let ctx = BuildContext { base_dir };
+    let ctx = BuildContext { base_dir, trust };
     let opts = EvalOptions {
         jobs: jobs.max(1),
         skip_unavailable: set.skips_unavailable(),

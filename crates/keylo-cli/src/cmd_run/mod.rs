@@ -136,7 +136,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     summary.source_counters = pipeline.source.counters().into_iter().collect();
     report::log_counters(&summary.source_counters);
     summary.degeneracy = degeneracy_out::summarise(&outcome.degeneracy);
-    summary.frames_degenerate = outcome.degenerate.frames.len();
+    summary.frames_degenerate = outcome.degenerate.count;
     summary.degenerate = outcome.degenerate.frames.clone();
     let first = outcome.first_frame.unwrap_or_default();
     summary.all_degenerate = outcome.degenerate.all_of(summary.frames, first);
@@ -300,6 +300,9 @@ fn process_all(
         match result {
             Ok((r, features)) => {
                 if let Some(why) = r.degenerate {
+                    let name = frame_name(pipeline, frame.index);
+                    st.degenerate
+                        .record(frame.index, &name, why, r.cloud_points);
                     if config.output.on_degenerate == OnDegenerate::Error {
                         st.failure = Some(Failure {
                             frame: frame.index,
@@ -307,9 +310,6 @@ fn process_all(
                         });
                         break;
                     }
-                    let name = frame_name(pipeline, frame.index);
-                    st.degenerate
-                        .record(frame.index, &name, why, r.cloud_points);
                 }
                 st.first_frame.get_or_insert(frame.index);
                 st.trajectory.push(r.stamp, r.pose);

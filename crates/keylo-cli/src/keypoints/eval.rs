@@ -53,6 +53,7 @@ pub fn run(args: EvalArgs, threads: Option<usize>, quiet: bool) -> Result<ExitCo
             .as_ref()
             .and_then(|p| p.parent().map(std::path::Path::to_path_buf))
             .unwrap_or_default(),
+        trust: args.input.trust.trust(),
     };
     if let Some(shard) = args.input.shard {
         return super::shards::eval_shard(&args, shard, &spec, &prepared, &ctx, quiet);

@@ -239,7 +239,10 @@ pub fn sweep_shard(
 ) -> Result<ExitCode> {
     let started = Instant::now();
     let out = args.input.out();
-    let ctx = BuildContext::default();
+    let ctx = BuildContext {
+        trust: args.input.trust.trust(),
+        ..BuildContext::default()
+    };
     let (tasks, skipped) = sweep_tasks(
         &p.combos,
         spec,

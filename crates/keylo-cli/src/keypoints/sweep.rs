@@ -51,7 +51,10 @@ pub fn run(args: SweepArgs, threads: Option<usize>, quiet: bool) -> Result<ExitC
         &spec,
         &grid,
         &registry,
-        &BuildContext::default(),
+        &BuildContext {
+            trust: args.input.trust.trust(),
+            ..BuildContext::default()
+        },
         &SweepOptions {
             jobs,
             skip_unavailable: set.skips_unavailable(),

@@ -269,7 +269,7 @@ impl Protocol<'_> {
 fn real_planes(args: &RealismArgs, first: usize, normalise: &Normalise) -> Result<Vec<Plane>> {
     let files = crate::keypoints::input::png_files(&args.real);
     let wanted = args.real_frames.max(2);
-    if files.len() < first + 2 {
+    if files.len() < first.saturating_add(2) {
         bail!(
             "--real {}: expected at least 2 PNG images from image {first} on, the folder has \
              {} in all",

@@ -108,6 +108,9 @@ pub struct PipelineConfig {
     /// `[localise]`: the settings of `keylo localise` (crate `keylo-map` validates them;
     /// other commands carry the table through unread).
     pub localise: toml::Table,
+    /// Whether the stages may load libraries the config names (not in the file: set by the
+    /// caller that checked the config under it; default [`Trust::Installed`]).
+    pub trust: Trust,
 }
 
 impl PipelineConfig {

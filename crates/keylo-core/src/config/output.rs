@@ -48,9 +48,10 @@ pub struct OutputConfig {
     pub on_bad_frame: OnBadFrame,
     /// What a degenerate frame does: `warn` (flag it, go on) or `error` (stop there, keeping
     /// the frames before). A frame is degenerate when the registrar used fewer points than
-    /// its minimum (KISS-ICP 3, the others 6) or its degeneracy analysis finds a pose
-    /// direction with no information. A run whose every frame is degenerate exits with
-    /// status 4 either way.
+    /// its minimum (KISS-ICP and hybrid 3, the others 6) or its degeneracy analysis finds a
+    /// pose direction with no information. Under `warn`, a run in which every frame after the
+    /// first is degenerate exits with status 4; under `error` the run stops at the first
+    /// degenerate frame with status 3.
     pub on_degenerate: OnDegenerate,
     /// Write the trajectory files' numbers in their shortest exact form (`1.2345678901234567e0`)
     /// instead of 9 decimals (TUM) or 13 digits (KITTI): read back, bit for bit the poses.

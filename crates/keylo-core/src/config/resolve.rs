@@ -1,5 +1,6 @@
 use std::collections::BTreeMap;
 
+use super::Trust;
 use super::{
     default_kind, OutputConfig, PipelineConfig, RawConfig, StageConfig, BY_IMAGE_KEY,
     PER_IMAGE_STAGES, SECTIONS,
@@ -49,6 +50,7 @@ impl Registry {
                 None => toml::Table::new(),
                 Some(value) => expect_table(&raw.origin, "localise", value)?,
             },
+            trust: Trust::Installed,
         })
     }
 

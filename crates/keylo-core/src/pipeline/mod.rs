@@ -137,6 +137,7 @@ impl Odometry {
     pub fn build(config: &PipelineConfig, registry: &Registry) -> Result<Self, CoreError> {
         let ctx = BuildContext {
             base_dir: config.base_dir.clone(),
+            trust: config.trust,
         };
         let image = build_optional(&registry.images, "image", &config.image, &ctx)?;
         let names = image.as_ref().map(|b| b.image_names()).unwrap_or_default();
@@ -459,6 +460,7 @@ pub fn build_source(
 ) -> Result<Box<dyn ImageSource>, CoreError> {
     let ctx = BuildContext {
         base_dir: config.base_dir.clone(),
+        trust: config.trust,
     };
     build_stage(&registry.sources, "source", &config.source, &ctx)
 }

@@ -33,6 +33,8 @@ impl SuperPoint {
     /// Loads the model of `params` (a relative `model` path is resolved against the config
     /// directory of `ctx`).
     pub fn new(params: SuperPointParams, ctx: &BuildContext) -> Result<Self, crate::FeaturesError> {
+        ctx.check_library("onnxruntime", &params.onnxruntime)
+            .map_err(|e| crate::FeaturesError::Unavailable(e.to_string()))?;
         params.validate()?;
         let path = (!params.model.is_empty()).then(|| ctx.resolve_path(&params.model));
         let model = Model::load(&params, path.as_deref())?;

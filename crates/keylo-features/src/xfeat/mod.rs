@@ -33,6 +33,8 @@ pub struct XFeat {
 impl XFeat {
     /// Loads the model of `params` (a relative `model` path from the config's folder).
     pub fn new(params: XFeatParams, ctx: &BuildContext) -> Result<Self, crate::FeaturesError> {
+        ctx.check_library("onnxruntime", &params.onnxruntime)
+            .map_err(|e| crate::FeaturesError::Unavailable(e.to_string()))?;
         params.validate()?;
         let path = (!params.model.is_empty()).then(|| ctx.base_dir.join(&params.model));
         let model = Model::load(&params, path.as_deref())?;

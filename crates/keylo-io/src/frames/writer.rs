@@ -98,6 +98,7 @@ mod tests {
         };
         let ctx = BuildContext {
             base_dir: dir.path().to_path_buf(),
+            ..Default::default()
         };
         let back = FramesSource::open(&config, &ctx)
             .unwrap()

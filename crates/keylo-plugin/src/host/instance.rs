@@ -261,8 +261,13 @@ impl Registrar for RegistrarInstance {
         };
         // SAFETY: a valid view of `cloud` and an output for the call.
         inst.call("register_cloud", |s, e| unsafe { f(s, &view, &mut out, e) })?;
-        let reg = convert::registration_from_abi(&out).map_err(|m| inst.error(m))?;
+        let mut reg = convert::registration_from_abi(&out).map_err(|m| inst.error(m))?;
         self.map_size = out.map_size;
+        // A plugin that leaves `source_points` at 0 did not say how many it used: count the
+        // cloud it was given (the degenerate-frame verdict reads this number).
+        if reg.source_points == 0 {
+            reg.source_points = cloud.len();
+        }
         Ok(reg)
     }
 

@@ -122,6 +122,14 @@ pub fn referenced(raw: &RawConfig) -> Vec<(String, String)> {
     out
 }
 
+/// Whether `name` is a plugin name and nothing else: ASCII letters, digits, `-` and `_`.
+pub fn is_plain_name(name: &str) -> bool {
+    !name.is_empty()
+        && name
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_')
+}
+
 /// The search path of a raw config: its `[plugins] dirs`, `KEYLO_PLUGIN_PATH`, the default.
 pub fn search_path(raw: &RawConfig) -> Result<SearchPath, PluginError> {
     let plugins = raw.plugins()?;
@@ -140,6 +148,13 @@ pub fn load_for_config(
     trust: Trust,
 ) -> Result<Vec<Arc<Plugin>>, PluginError> {
     let wanted = referenced(raw);
+    // A name is a file name's stem: a path in it would reach outside every folder searched.
+    if let Some((section, name)) = wanted.iter().find(|(_, n)| !is_plain_name(n)) {
+        return Err(PluginError::BadName {
+            section: section.clone(),
+            name: name.clone(),
+        });
+    }
     let search = search_path(raw)?;
     // Every file first: nothing is loaded unless all may be.
     let mut files: BTreeMap<String, PathBuf> = BTreeMap::new();

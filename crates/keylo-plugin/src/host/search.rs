@@ -52,7 +52,8 @@ impl SearchPath {
         for (dir, from) in &self.dirs {
             for f in &files {
                 let path = dir.join(f);
-                if path.is_file() {
+                // Only a file directly in the folder (a name with a path in it never is).
+                if path.is_file() && path.parent() == Some(dir.as_path()) {
                     return Ok((path, from));
                 }
             }

@@ -236,6 +236,11 @@ impl Registrar for Hybrid {
         self.registration(cloud, keypoints)
     }
 
+    /// Three, as the KISS-ICP it runs on (point-to-point).
+    fn min_points(&self) -> usize {
+        3
+    }
+
     fn map_size(&self) -> usize {
         self.icp.map().len()
     }
