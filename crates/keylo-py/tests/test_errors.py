@@ -75,3 +75,25 @@ def test_a_degenerate_frame_says_so():
     for k in range(3):
         r = fresh.process(room - [0.1 * k, 0, 0], stamp=0.1 * k)
         assert r.degenerate is None, r.degenerate
+
+
+def test_on_degenerate_error_stops_run_keeping_the_frames_before(tmp_path):
+    # Three scans of a room, the third cut to one point.
+    rng = np.random.default_rng(1)
+    velodyne = tmp_path / "velodyne"
+    velodyne.mkdir()
+    u, v = rng.uniform(-1, 1, (2, 3000))
+    room = np.concatenate([np.stack(w, 1) for w in (
+        (10 + 0 * u, 6 * u, 2 * v), (-10 + 0 * u, 6 * u, 2 * v), (10 * u, 6 + 0 * u, 2 * v),
+        (10 * u, -6 + 0 * u, 2 * v), (10 * u, 6 * v, 2 + 0 * u), (10 * u, 6 * v, -2 + 0 * u))])
+    for k in range(3):
+        scan = room - [0.1 * k, 0, 0] if k < 2 else np.array([[5.0, 1.0, 0.5]])
+        np.hstack([scan, np.ones((len(scan), 1))]).astype(np.float32).tofile(
+            velodyne / f"{k:06d}.bin")
+    with pytest.raises(keylo.StageError, match="degenerate frame"):
+        keylo.run({"output": {"on_degenerate": "error"}}, data=str(tmp_path))
+    records, summary, error = keylo._run({"output": {"on_degenerate": "error"}}, str(tmp_path),
+                                         None, {})
+    assert len(records) == 2 and "too-few-points" in str(error)
+    records, _ = keylo.run(None, data=str(tmp_path))
+    assert [r["degenerate"] for r in records] == [None, None, "too-few-points"]

@@ -92,7 +92,9 @@ def run(config=None, data=None, gt=None, trust_plugins=False, **source):
     (``(stamps, poses)`` or a path, None without), ``accuracy`` (``keylo.evaluate``'s
     figures, or None), ``kinds`` (each stage's backend) and ``interrupted`` (Ctrl-C stops
     the run; the frames done are kept). An error in the data raises after the frames before
-    it were registered; ``compare`` keeps those. ``trust_plugins`` is ``Odometry``'s: a
+    it were registered; ``compare`` keeps those. Under ``[output] on_degenerate = "error"`` a
+    degenerate frame stops the run as such an error (``StageError``), as ``keylo run`` does.
+    ``trust_plugins`` is ``Odometry``'s: a
     config naming libraries of its own is refused without it.
     """
     records, summary, error = _run(config, data, gt, source, trust_plugins)
@@ -138,9 +140,17 @@ def _run(config, data, gt, source, trust_plugins=False):
             path = folder / path
         reader = open(path, kind=kind, **src, **source)
     results, interrupted, error = [], False, None
+    stop_on_degenerate = table.get("output", {}).get("on_degenerate", "warn") == "error"
     try:
         for frame in reader:
-            results.append(odometry.process_frame(frame))
+            result = odometry.process_frame(frame)
+            if stop_on_degenerate and result.degenerate is not None:
+                # As `keylo run`: the run stops there, keeping the frames before it.
+                error = StageError(
+                    f"frame {result.index}: degenerate frame: {result.degenerate} "
+                    f'(output.on_degenerate = "error"; "warn" flags it and goes on)')
+                break
+            results.append(result)
     except KeyboardInterrupt:
         interrupted = True
     except KeyloError as e:
