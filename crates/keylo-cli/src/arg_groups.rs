@@ -45,10 +45,6 @@ pub struct TrustArgs {
 impl TrustArgs {
     /// The trust the flag gives.
     pub fn trust(self) -> Trust {
-        if self.trust_plugins {
-            Trust::Config
-        } else {
-            Trust::Installed
-        }
+        Trust::opted_in(self.trust_plugins)
     }
 }

@@ -6,10 +6,8 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::Subcommand;
-use keylo::config::RawConfig;
-use keylo::config::Trust;
-use keylo::plugin::host::CONFIG_DIRS;
-use keylo::plugin::host::{self, Instance};
+use keylo::config::{RawConfig, Trust};
+use keylo::plugin::host::{self, Instance, CONFIG_DIRS};
 use keylo::plugin::{Plugin, PluginError, SearchPath};
 
 #[derive(Debug, Subcommand)]

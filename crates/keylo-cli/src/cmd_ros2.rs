@@ -211,11 +211,10 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
                 serde_json::Value::Array(list)
             }),
             source_counters: counters,
-            frames_degenerate: degenerate.count,
-            degenerate: degenerate.frames.clone(),
             ..Summary::default()
         };
         totals.fill(&mut summary);
+        summary.set_degenerate(&degenerate);
         report::write_summary(dir, &summary)?;
     }
     drop(journal);

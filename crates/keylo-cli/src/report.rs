@@ -157,6 +157,14 @@ impl Totals {
     }
 }
 
+impl Summary {
+    /// `frames_degenerate` and `degenerate` from a run's log (`keylo run`, `keylo ros2 --out`).
+    pub fn set_degenerate(&mut self, log: &crate::degenerate_out::DegenerateLog) {
+        self.frames_degenerate = log.count;
+        self.degenerate = log.frames.clone();
+    }
+}
+
 /// Writes `summary.json` (the per-frame files are written as the run goes: `journal`).
 pub fn write_summary(dir: &Path, summary: &Summary) -> Result<()> {
     let p = dir.join("summary.json");

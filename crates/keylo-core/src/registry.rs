@@ -27,13 +27,14 @@ pub struct BuildContext {
 impl BuildContext {
     /// Refuses, unless trusted, a library path `value` named by parameter `key` of a stage.
     pub fn check_library(&self, key: &str, value: &str) -> Result<(), crate::ConfigError> {
-        if value.is_empty() || self.trust == crate::config::Trust::Config {
+        if value.is_empty() {
             return Ok(());
         }
-        Err(crate::ConfigError::Untrusted {
-            origin: "the stage's parameters".into(),
-            libraries: format!("{value} ({key})"),
-        })
+        let named = crate::config::NamedLibrary {
+            key: key.into(),
+            path: value.into(),
+        };
+        crate::config::refuse_untrusted("the stage's parameters", self.trust, &[named])
     }
 
     /// `path` resolved against the config directory.

@@ -8,7 +8,7 @@ use keylo_core::Channel;
 use keylo_features::image::{Interpolation, Normalise, NormaliseMethod};
 use serde::{Deserialize, Serialize};
 
-use keylo_core::config::Trust;
+use keylo_core::config::{refuse_untrusted, NamedLibrary, Trust};
 use keylo_core::ConfigError;
 
 use crate::{KpEvalError, MetricParams};
@@ -139,7 +139,7 @@ impl EvalSpec {
     /// (`[params.<kind>] onnxruntime`): loading it would run its code (docs/plugins.md,
     /// "Trust"). `origin` names the spec in the error.
     pub fn check_trust(&self, origin: &str, trust: Trust) -> Result<(), ConfigError> {
-        let named: Vec<String> = self
+        let named: Vec<NamedLibrary> = self
             .params
             .iter()
             .filter_map(|(kind, params)| {
@@ -147,16 +147,13 @@ impl EvalSpec {
                     .get("onnxruntime")?
                     .as_str()
                     .filter(|p| !p.is_empty())?;
-                Some(format!("{path} (params.{kind}.onnxruntime)"))
+                Some(NamedLibrary {
+                    key: format!("params.{kind}.onnxruntime"),
+                    path: path.into(),
+                })
             })
             .collect();
-        if trust == Trust::Config || named.is_empty() {
-            return Ok(());
-        }
-        Err(ConfigError::Untrusted {
-            origin: origin.into(),
-            libraries: named.join(", "),
-        })
+        refuse_untrusted(origin, trust, &named)
     }
 
     /// The parameter table of backend `kind` for images of `width × height`: the preset's,

@@ -70,11 +70,7 @@ pub fn evaluate_keypoints<'py>(
             label: i.to_string(),
         });
     }
-    let trust = if trust_plugins {
-        Trust::Config
-    } else {
-        Trust::Installed
-    };
+    let trust = Trust::opted_in(trust_plugins);
     let (spec, base_dir) = spec_of(spec, trust)?;
     let registry = crate::detectors::registry(py)?;
     let set = ComboSet::parse(combos);

@@ -91,11 +91,7 @@ impl Odometry {
             .collect();
         let registry = crate::detectors::registry(py)?;
         // A config's own libraries (`[plugins] dirs`, `onnxruntime`) load only when trusted.
-        let trust = if trust_plugins {
-            keylo::config::Trust::Config
-        } else {
-            keylo::config::Trust::Installed
-        };
+        let trust = keylo::config::Trust::opted_in(trust_plugins);
         let frontend = Frontend::from_raw_with(raw, registry, trust).map_err(frontend)?;
         Ok(Self {
             state: Mutex::new(State {

@@ -60,11 +60,7 @@ pub unsafe extern "C" fn keylo_pipeline_new_with_flags(
                 "flags {flags:#x}: unknown bits (expected 0 or KEYLO_TRUST_PLUGINS)"
             )));
         }
-        let trust = if flags & KEYLO_TRUST_PLUGINS != 0 {
-            Trust::Config
-        } else {
-            Trust::Installed
-        };
+        let trust = Trust::opted_in(flags & KEYLO_TRUST_PLUGINS != 0);
         // SAFETY: NUL-terminated per the contract.
         let text = unsafe { CStr::from_ptr(toml) }
             .to_str()

@@ -136,8 +136,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     summary.source_counters = pipeline.source.counters().into_iter().collect();
     report::log_counters(&summary.source_counters);
     summary.degeneracy = degeneracy_out::summarise(&outcome.degeneracy);
-    summary.frames_degenerate = outcome.degenerate.count;
-    summary.degenerate = outcome.degenerate.frames.clone();
+    summary.set_degenerate(&outcome.degenerate);
     let first = outcome.first_frame.unwrap_or_default();
     summary.all_degenerate = outcome.degenerate.all_of(summary.frames, first);
     // The options map the clock of a reference file given to the run, not a source's own.

@@ -113,7 +113,7 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let Some(moving_start) = args.moving_start else {
-        let sets = ctx.protocol(args.real_start, &config, "")?;
+        let sets = ctx.protocol(real_planes(&args, args.real_start)?, &config, "")?;
         let md = report::write(&args.out, &sets, &heading(&args, ""))?;
         if !quiet {
             print!("{md}");
@@ -126,15 +126,14 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
         sway_scale: 0.0,
         ..config.clone()
     };
-    let still = ctx.protocol(args.real_start, &still_config, "still")?;
-    let real_moving = real_planes(
-        &args,
-        moving_start,
-        &EvalSpec::default().image.png_normalise(),
-    )?;
-    let real_shift = median_shift(&real_moving)?;
-    let motion = motion::matched(&config, real_shift, quiet)?;
-    let moving = ctx.protocol(moving_start, &motion.config, "moving")?;
+    // Both real stretches are read first: a bad `--moving-start` fails before any work.
+    let (real_still, real_moving) = (
+        real_planes(&args, args.real_start)?,
+        real_planes(&args, moving_start)?,
+    );
+    let still = ctx.protocol(real_still, &still_config, "still")?;
+    let motion = motion::matched(&config, median_shift(&real_moving)?, quiet)?;
+    let moving = ctx.protocol(real_moving, &motion.config, "moving")?;
     for (name, sets) in [("still", &still), ("moving", &moving)] {
         let dir = args.out.join(name);
         std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -199,17 +198,11 @@ struct Protocol<'a> {
 }
 
 impl Protocol<'_> {
-    /// The real images from `real_first` and every simulated channel of `config`'s layouts
-    /// (seeds `seed` … `seed + seeds − 1`), evaluated: the real set first. `label` prefixes
-    /// the progress lines.
-    fn protocol(
-        &self,
-        real_first: usize,
-        config: &SimConfig,
-        label: &str,
-    ) -> Result<Vec<ImageSet>> {
+    /// The `real` images and every simulated channel of `config`'s layouts (seeds `seed` …
+    /// `seed + seeds − 1`), evaluated: the real set first. `label` prefixes the progress
+    /// lines.
+    fn protocol(&self, real: Vec<Plane>, config: &SimConfig, label: &str) -> Result<Vec<ImageSet>> {
         let spec = EvalSpec::default();
-        let real = real_planes(self.args, real_first, &spec.image.png_normalise())?;
         let mut inputs: Vec<(String, Vec<Vec<Plane>>)> = vec![("real".into(), vec![real])];
         for k in 0..self.args.seeds {
             let seeded = SimConfig {
@@ -265,8 +258,10 @@ impl Protocol<'_> {
     }
 }
 
-/// `--real-frames` PNG files of `--real` from the `first` (in name order).
-fn real_planes(args: &RealismArgs, first: usize, normalise: &Normalise) -> Result<Vec<Plane>> {
+/// `--real-frames` PNG files of `--real` from the `first` (in name order), as the keypoint
+/// study takes PNG images.
+fn real_planes(args: &RealismArgs, first: usize) -> Result<Vec<Plane>> {
+    let normalise = EvalSpec::default().image.png_normalise();
     let files = crate::keypoints::input::png_files(&args.real);
     let wanted = args.real_frames.max(2);
     if files.len() < first.saturating_add(2) {
@@ -281,7 +276,7 @@ fn real_planes(args: &RealismArgs, first: usize, normalise: &Normalise) -> Resul
         .iter()
         .skip(first)
         .take(wanted)
-        .map(|p| Plane::from_png(p, normalise).map_err(Into::into))
+        .map(|p| Plane::from_png(p, &normalise).map_err(Into::into))
         .collect()
 }
 

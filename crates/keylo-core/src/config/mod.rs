@@ -14,10 +14,11 @@ mod typed;
 
 pub use output::{OnBadFrame, OnDegenerate, OutputConfig};
 pub use plugins::PluginsConfig;
-pub use raw::RawConfig;
+pub use raw::{RawConfig, StageTable};
 pub use render::{allowed_values, render_resolved, resolve_ref, unset_keys};
 pub use trust::{
-    check as check_trust, named_runtimes, NamedLibrary, Trust, OPT_IN as TRUST_OPT_IN,
+    check as check_trust, named_runtimes, refuse as refuse_untrusted, NamedLibrary, Trust,
+    OPT_IN as TRUST_OPT_IN,
 };
 pub use typed::{
     ConfigBuilder, DescriptorParams, DetectorParams, DownsamplerParams, ImageParams,

@@ -1,5 +1,6 @@
 use std::path::{Path, PathBuf};
 
+use super::BY_IMAGE_KEY;
 use crate::ConfigError;
 
 /// A config as written: the parsed TOML table plus where it came from.
@@ -12,7 +13,45 @@ pub struct RawConfig {
     pub table: toml::Table,
 }
 
+/// One table of a stage section in a raw config: the section itself or one of its
+/// `by_image` overrides ([`RawConfig::stage_tables`]).
+#[derive(Debug, Clone)]
+pub struct StageTable<'a> {
+    /// `detector`, `descriptor`, `downsampler` or `registrar`.
+    pub section: &'static str,
+    /// The table's key path (`detector`, `detector.by_image.range`).
+    pub path: String,
+    pub table: &'a toml::Table,
+}
+
 impl RawConfig {
+    /// The tables of the per-frame stage sections (`detector`, `descriptor`, `downsampler`,
+    /// `registrar`), each followed by its `by_image` overrides; a section or override that
+    /// is not a table is left out (resolving the config reports it).
+    pub fn stage_tables(&self) -> Vec<StageTable<'_>> {
+        let mut out = Vec::new();
+        for section in ["detector", "descriptor", "downsampler", "registrar"] {
+            let Some(table) = self.table.get(section).and_then(toml::Value::as_table) else {
+                continue;
+            };
+            out.push(StageTable {
+                section,
+                path: section.to_string(),
+                table,
+            });
+            if let Some(by) = table.get(BY_IMAGE_KEY).and_then(toml::Value::as_table) {
+                out.extend(by.iter().filter_map(|(image, t)| {
+                    Some(StageTable {
+                        section,
+                        path: format!("{section}.{BY_IMAGE_KEY}.{image}"),
+                        table: t.as_table()?,
+                    })
+                }));
+            }
+        }
+        out
+    }
+
     /// The empty config: every section takes its defaults.
     pub fn builtin() -> Self {
         Self {

@@ -9,7 +9,7 @@
 
 use std::path::PathBuf;
 
-use super::{RawConfig, BY_IMAGE_KEY};
+use super::RawConfig;
 use crate::ConfigError;
 
 /// Which libraries a config may have loaded.
@@ -20,6 +20,18 @@ pub enum Trust {
     Installed,
     /// Also the libraries the config names (its `[plugins] dirs`, `onnxruntime` paths).
     Config,
+}
+
+impl Trust {
+    /// The trust of an interface's opt-in (`--trust-plugins`, `trust_plugins=True`,
+    /// `KEYLO_TRUST_PLUGINS`): given, [`Trust::Config`]; not, [`Trust::Installed`].
+    pub fn opted_in(opt_in: bool) -> Self {
+        if opt_in {
+            Self::Config
+        } else {
+            Self::Installed
+        }
+    }
 }
 
 /// How each interface opts in, for messages.
@@ -36,32 +48,20 @@ pub struct NamedLibrary {
 
 /// Every non-empty `onnxruntime` path in the config's stage sections (per-image tables too).
 pub fn named_runtimes(raw: &RawConfig) -> Vec<NamedLibrary> {
-    let mut out = Vec::new();
-    for section in ["detector", "descriptor", "downsampler", "registrar"] {
-        let Some(table) = raw.table.get(section).and_then(toml::Value::as_table) else {
-            continue;
-        };
-        let mut tables = vec![(section.to_string(), table)];
-        if let Some(by) = table.get(BY_IMAGE_KEY).and_then(toml::Value::as_table) {
-            tables.extend(by.iter().filter_map(|(image, t)| {
-                t.as_table()
-                    .map(|t| (format!("{section}.{BY_IMAGE_KEY}.{image}"), t))
-            }));
-        }
-        for (key, t) in tables {
-            if let Some(path) = t
+    raw.stage_tables()
+        .into_iter()
+        .filter_map(|t| {
+            let path = t
+                .table
                 .get("onnxruntime")
                 .and_then(toml::Value::as_str)
-                .filter(|p| !p.is_empty())
-            {
-                out.push(NamedLibrary {
-                    key: format!("{key}.onnxruntime"),
-                    path: PathBuf::from(path),
-                });
-            }
-        }
-    }
-    out
+                .filter(|p| !p.is_empty())?;
+            Some(NamedLibrary {
+                key: format!("{}.onnxruntime", t.path),
+                path: PathBuf::from(path),
+            })
+        })
+        .collect()
 }
 
 /// Refuses, under [`Trust::Installed`], a config that names libraries: `plugins` (the plugin
@@ -72,7 +72,13 @@ pub fn check(raw: &RawConfig, trust: Trust, plugins: &[NamedLibrary]) -> Result<
     }
     let mut named: Vec<NamedLibrary> = plugins.to_vec();
     named.extend(named_runtimes(raw));
-    if named.is_empty() {
+    refuse(&raw.origin, trust, &named)
+}
+
+/// The one refusal of every trust check: under [`Trust::Installed`], `named` libraries (of
+/// `origin`, for the message) are an error listing each with its key; none, or trusted, pass.
+pub fn refuse(origin: &str, trust: Trust, named: &[NamedLibrary]) -> Result<(), ConfigError> {
+    if trust == Trust::Config || named.is_empty() {
         return Ok(());
     }
     let libraries = named
@@ -81,7 +87,7 @@ pub fn check(raw: &RawConfig, trust: Trust, plugins: &[NamedLibrary]) -> Result<
         .collect::<Vec<_>>()
         .join(", ");
     Err(ConfigError::Untrusted {
-        origin: raw.origin.clone(),
+        origin: origin.into(),
         libraries,
     })
 }

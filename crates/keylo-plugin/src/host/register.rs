@@ -1,11 +1,10 @@
 //! Plugin kinds as registry factories, and loading the plugins a config names.
 
 use std::collections::BTreeMap;
+use std::path::PathBuf;
 use std::sync::Arc;
 
-use std::path::PathBuf;
-
-use keylo_core::config::{check_trust, NamedLibrary, RawConfig, Trust, BY_IMAGE_KEY};
+use keylo_core::config::{check_trust, NamedLibrary, RawConfig, Trust};
 use keylo_core::registry::{BuildContext, Factory};
 use keylo_core::{CoreError, Descriptor, Detector, Downsampler, Registrar, Registry};
 
@@ -100,26 +99,17 @@ pub fn register_plugin(registry: &mut Registry, plugin: &Arc<Plugin>) {
 /// Every `(section, plugin name)` a raw config names with `kind = "plugin:NAME"`, per-image
 /// overrides included.
 pub fn referenced(raw: &RawConfig) -> Vec<(String, String)> {
-    let mut out = Vec::new();
-    for section in ["detector", "descriptor", "downsampler", "registrar"] {
-        let Some(table) = raw.table.get(section).and_then(toml::Value::as_table) else {
-            continue;
-        };
-        let mut tables = vec![table];
-        if let Some(by) = table.get(BY_IMAGE_KEY).and_then(toml::Value::as_table) {
-            tables.extend(by.values().filter_map(toml::Value::as_table));
-        }
-        for t in tables {
-            if let Some(name) = t
+    raw.stage_tables()
+        .into_iter()
+        .filter_map(|t| {
+            let name = t
+                .table
                 .get("kind")
                 .and_then(toml::Value::as_str)
-                .and_then(|k| k.strip_prefix(KIND_PREFIX))
-            {
-                out.push((section.to_string(), name.to_string()));
-            }
-        }
-    }
-    out
+                .and_then(|k| k.strip_prefix(KIND_PREFIX))?;
+            Some((t.section.to_string(), name.to_string()))
+        })
+        .collect()
 }
 
 /// Whether `name` is a plugin name and nothing else: ASCII letters, digits, `-` and `_`.
