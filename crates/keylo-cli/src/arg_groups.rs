@@ -48,3 +48,32 @@ impl TrustArgs {
         Trust::opted_in(self.trust_plugins)
     }
 }
+
+/// `--view`, `--record`: the run watched live and recorded (docs/report.md, "Watching a run
+/// live").
+#[derive(Debug, Clone, Default, Args)]
+pub struct ViewArgs {
+    /// Stream the run live to Foxglove or Lichtblick: a WebSocket server at HOST:PORT (no
+    /// value: 127.0.0.1:8765) that the viewer's "Foxglove WebSocket" connection opens. The
+    /// scan, registered cloud, local map, pose, trajectory, reference, images with keypoints
+    /// and per-frame figures; a slow or closed viewer never holds the run up.
+    #[arg(
+        long,
+        value_name = "HOST:PORT",
+        num_args = 0..=1,
+        default_missing_value = "127.0.0.1:8765"
+    )]
+    pub view: Option<String>,
+    /// With --view: wait before the first frame until a viewer has connected (at most SECONDS;
+    /// no value: until one does).
+    #[arg(long, value_name = "SECONDS", num_args = 0..=1, default_missing_value = "inf")]
+    pub view_wait: Option<f64>,
+    /// Record the same streams as MCAP (Foxglove, Lichtblick; its scans are data for `keylo
+    /// run --data FILE`), with the run's config attached. An existing file is replaced.
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
+    /// Send the local map, the trajectory and the reference every N frames (and after the
+    /// last; default 10): the map is the largest message.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub view_map_every: Option<u64>,
+}

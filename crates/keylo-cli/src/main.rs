@@ -33,6 +33,7 @@ mod resources;
 mod ros2_map;
 mod shard;
 mod trajectories;
+mod view_out;
 
 use std::process::ExitCode;
 

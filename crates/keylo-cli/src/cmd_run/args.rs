@@ -49,4 +49,6 @@ pub struct RunArgs {
     /// `[map]` (docs/maps.md).
     #[arg(long, value_name = "DIR")]
     pub map_out: Option<PathBuf>,
+    #[command(flatten)]
+    pub view: crate::arg_groups::ViewArgs,
 }

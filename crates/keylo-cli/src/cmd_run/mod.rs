@@ -23,7 +23,8 @@ use crate::journal::Journal;
 use crate::overlay::Pictures;
 use crate::report::{self, Failure, Summary, Totals};
 use crate::{
-    configs, resources, trajectories, EXIT_DEGENERATE, EXIT_FRAME_FAILED, EXIT_INTERRUPTED,
+    configs, resources, trajectories, view_out, EXIT_DEGENERATE, EXIT_FRAME_FAILED,
+    EXIT_INTERRUPTED,
 };
 
 pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
@@ -50,11 +51,9 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         .as_ref()
         .and_then(|s| pose_graph_for(&config, s));
     let out = output_dir(&args, &config)?;
-    std::fs::write(
-        out.join("config.toml"),
-        keylo::config::render_resolved(&config, &registry),
-    )
-    .with_context(|| format!("writing {}", out.join("config.toml").display()))?;
+    let resolved = keylo::config::render_resolved(&config, &registry);
+    std::fs::write(out.join("config.toml"), &resolved)
+        .with_context(|| format!("writing {}", out.join("config.toml").display()))?;
     let Pipeline { source, odometry } = Pipeline::build(&config, &registry)?;
     let source: Box<dyn ImageSource> = match args.prefetch {
         0 => source,
@@ -72,6 +71,26 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let info = pipeline.source.info();
     tracing::info!("source: {}; output: {}", info.description, out.display());
 
+    let reference = gt_given
+        .as_ref()
+        .map(|gt| {
+            let mut t = gt.trajectory.clone();
+            args.reference.stamp_map().apply(&mut t);
+            t
+        })
+        .or_else(|| pipeline.source.ground_truth());
+    let mut view = view_out::start(
+        &args.view,
+        view_out::RunDescription {
+            command: std::env::args().collect::<Vec<_>>().join(" "),
+            config_origin: config.origin.clone(),
+            config_toml: resolved,
+            source: info.description.clone(),
+            images: (pipeline.odometry.image.as_ref()).map_or_else(Vec::new, |b| b.image_names()),
+            reference,
+        },
+        quiet,
+    )?;
     let progress = progress_bar(info.frames, quiet);
     let clock = resources::RunClock::start();
     let mut outcome = RunState::default();
@@ -92,10 +111,13 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             pictures: pictures.as_mut(),
             map: map.as_mut(),
             pose_graph: pose_graph.as_mut(),
+            view: view.as_mut(),
         },
         &mut outcome,
     );
     progress.finish_and_clear();
+    // A recording that cannot be closed fails the run, after its results are written.
+    let view_error = view.map(|v| v.finish(&pipeline.odometry)).transpose().err();
     // The map holds the frames done, also when the run stopped early.
     let map = map.map(MapBuilder::finish).transpose()?;
     if let Some(g) = &pose_graph {
@@ -164,6 +186,13 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         println!("keylo run — {} → {}", summary.source, out.display());
         print!("{}", report::table(&summary));
     }
+    if let Some(e) = view_error {
+        eprintln!(
+            "error: {e:#}\n       the run's results are written to {}",
+            out.display()
+        );
+        return Ok(ExitCode::FAILURE);
+    }
     if let Some(f) = &summary.failed {
         eprintln!(
             "error: stopped at frame {}: {}\n       the {} frames done before it are written to {}",
@@ -214,6 +243,7 @@ struct Outputs<'a> {
     pictures: Option<&'a mut Pictures>,
     map: Option<&'a mut MapBuilder>,
     pose_graph: Option<&'a mut PoseGraph>,
+    view: Option<&'a mut view_out::Session>,
 }
 
 /// The pose graph `[output] pose_graph` asks for: keyframes as the map's (`settings`),
@@ -289,10 +319,11 @@ fn process_all(
             .as_ref()
             .is_some_and(|p| p.wants(frame.index));
         let mapped = (outputs.map.as_ref()).is_some_and(|m| m.config().keyframe_features);
+        let viewed = outputs.view.is_some();
         let t = Instant::now();
         let result = pipeline
             .odometry
-            .process_guarded(&frame, pictured || mapped);
+            .process_guarded(&frame, pictured || mapped || viewed);
         let seconds = t.elapsed().as_secs_f64();
         st.totals.odometry_seconds += seconds;
         progress.inc(1);
@@ -364,6 +395,9 @@ fn process_all(
                             .map_err(Into::into),
                         None => Ok(()),
                     });
+                if let Some(v) = outputs.view.as_deref_mut() {
+                    v.frame(&pipeline.odometry, &frame, &r, features.as_ref(), seconds);
+                }
                 if let Err(e) = recorded {
                     st.failure = Some(Failure {
                         frame: frame.index,

@@ -1,0 +1,150 @@
+//! `--view` and `--record`: a run streamed live to Foxglove or Lichtblick and recorded as MCAP
+//! (crate keylo-view, cargo feature `view`). Without the feature the options are refused with a
+//! message saying how to build it.
+
+use anyhow::Result;
+use keylo::{FrameFeatures, FrameResult, LidarFrame, Odometry, Trajectory};
+
+use crate::arg_groups::ViewArgs;
+
+/// What the recording and the viewer are told about the run.
+pub struct RunDescription {
+    pub command: String,
+    pub config_origin: String,
+    pub config_toml: String,
+    pub source: String,
+    /// The images the pipeline makes (advertised before the first frame).
+    pub images: Vec<String>,
+    /// The reference trajectory to draw beside the estimate.
+    pub reference: Option<Trajectory>,
+}
+
+/// A started viewer and/or recording.
+#[cfg(feature = "view")]
+pub struct Session(keylo_view::Viewer);
+
+/// No viewer in this build: nothing can be started.
+#[cfg(not(feature = "view"))]
+pub enum Session {}
+
+/// Starts what `args` ask for (`None` when nothing); with `--view-wait`, waits for a viewer.
+#[cfg(feature = "view")]
+pub fn start(args: &ViewArgs, run: RunDescription, quiet: bool) -> Result<Option<Session>> {
+    if args.view.is_none() && args.record.is_none() {
+        if args.view_wait.is_some() {
+            tracing::warn!("--view-wait does nothing without --view");
+        }
+        return Ok(None);
+    }
+    let mut options = keylo_view::ViewOptions {
+        serve: args.view.clone(),
+        record: args.record.clone(),
+        ..Default::default()
+    };
+    if let Some(n) = args.view_map_every {
+        options.map_every = n;
+    }
+    let info = keylo_view::RunInfo {
+        config_toml: Some(run.config_toml),
+        config_origin: run.config_origin,
+        source: run.source,
+        command: run.command,
+    };
+    let mut viewer = keylo_view::Viewer::start(&options, &info)?;
+    viewer.announce_images(&run.images);
+    if let Some(r) = run.reference {
+        viewer.set_reference(r);
+    }
+    if let Some(url) = viewer.url() {
+        if !quiet {
+            eprintln!(
+                "live view at {url}: in Foxglove or Lichtblick, Open connection → Foxglove \
+                 WebSocket → {url}"
+            );
+        }
+        if let Some(secs) = args.view_wait {
+            wait(&viewer, secs, &url)?;
+        }
+    }
+    Ok(Some(Session(viewer)))
+}
+
+#[cfg(feature = "view")]
+fn wait(viewer: &keylo_view::Viewer, secs: f64, url: &str) -> Result<()> {
+    let limit = match secs {
+        s if s.is_infinite() => None,
+        s if s.is_finite() && s >= 0.0 => Some(std::time::Duration::from_secs_f64(s)),
+        s => anyhow::bail!("--view-wait {s}: expected seconds ≥ 0 (or no value: no limit)"),
+    };
+    eprintln!("waiting for a viewer to connect to {url} (Ctrl-C to stop)…");
+    if !viewer.wait_for_client(limit, &|| false) {
+        tracing::warn!("no viewer connected to {url} within {secs} s: running without one");
+    }
+    Ok(())
+}
+
+#[cfg(not(feature = "view"))]
+pub fn start(args: &ViewArgs, _run: RunDescription, _quiet: bool) -> Result<Option<Session>> {
+    if args.view.is_some() || args.record.is_some() {
+        anyhow::bail!(
+            "--view and --record need keylo built with the cargo feature `view` (on by \
+             default): cargo build --release -p keylo-cli --features view"
+        );
+    }
+    Ok(None)
+}
+
+#[cfg(feature = "view")]
+impl Session {
+    /// Sends one frame (its cloud and, when due, the local map are taken from `odometry`).
+    pub fn frame(
+        &mut self,
+        odometry: &Odometry,
+        frame: &LidarFrame,
+        result: &FrameResult,
+        features: Option<&FrameFeatures>,
+        seconds: f64,
+    ) {
+        let map = self.0.wants_map().then(|| odometry.local_map());
+        self.0.frame(&keylo_view::FrameView {
+            frame,
+            result,
+            features,
+            cloud: odometry.last_cloud(),
+            map: map.as_deref(),
+            seconds,
+        });
+    }
+
+    /// Sends the last map, stops the server and closes the recording (saying where it is).
+    pub fn finish(self, odometry: &Odometry) -> Result<()> {
+        let map = odometry.local_map();
+        if let Some(r) = self.0.finish(Some(&map))? {
+            tracing::info!(
+                "recorded {} frames to {} ({:.1} MB)",
+                r.frames,
+                r.path.display(),
+                r.bytes as f64 / 1e6
+            );
+        }
+        Ok(())
+    }
+}
+
+#[cfg(not(feature = "view"))]
+impl Session {
+    pub fn frame(
+        &mut self,
+        _: &Odometry,
+        _: &LidarFrame,
+        _: &FrameResult,
+        _: Option<&FrameFeatures>,
+        _: f64,
+    ) {
+        match *self {}
+    }
+
+    pub fn finish(self, _: &Odometry) -> Result<()> {
+        match self {}
+    }
+}

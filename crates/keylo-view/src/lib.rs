@@ -1,0 +1,37 @@
+//! A keylo run watched live and recorded: [`Viewer`] sends each frame's results to the Foxglove
+//! SDK, whose WebSocket server Foxglove and Lichtblick connect to (`--view`) and whose MCAP
+//! writer records the same streams (`--record FILE`).
+//!
+//! Streams (topics in [`topics`]): the input scan as `sensor_msgs/msg/PointCloud2` (CDR, so the
+//! recording is also a data set `keylo run --data` reads), the registered cloud, the local map,
+//! the pose, the sensor's transform, the trajectory and the reference (Foxglove schemas), the
+//! LiDAR images with their keypoints, and the frame's figures as JSON. Nothing is encoded for a
+//! live stream no client subscribed to, and a slow or vanished client never holds the run up:
+//! its queue drops its oldest messages.
+//!
+//! ```no_run
+//! use keylo_view::{RunInfo, ViewOptions, Viewer};
+//! let options = ViewOptions {
+//!     serve: Some("127.0.0.1:8765".into()),
+//!     ..ViewOptions::default()
+//! };
+//! let viewer = Viewer::start(&options, &RunInfo::default()).unwrap();
+//! println!("open Foxglove or Lichtblick at {}", viewer.url().unwrap_or_default());
+//! ```
+
+mod channels;
+mod convert;
+mod error;
+mod images;
+mod options;
+mod record;
+mod reference;
+mod scan_cdr;
+mod stats;
+pub mod topics;
+mod viewer;
+
+pub use error::ViewError;
+pub use options::{RunInfo, ViewOptions};
+pub use scan_cdr::POINTCLOUD2_SCHEMA;
+pub use viewer::{FrameView, RecordSummary, Viewer};

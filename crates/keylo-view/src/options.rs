@@ -1,0 +1,44 @@
+//! What to stream and record.
+
+use std::path::PathBuf;
+
+/// Where the viewer listens and what it records.
+#[derive(Debug, Clone)]
+pub struct ViewOptions {
+    /// `HOST:PORT` of the live WebSocket server (`None`: no live view). Port 0 takes a free one.
+    pub serve: Option<String>,
+    /// MCAP file to record (`None`: no recording). An existing file is replaced.
+    pub record: Option<PathBuf>,
+    /// The local map, the trajectory and the reference are sent every this many frames (and
+    /// with the last frame): the map is the largest message by far.
+    pub map_every: u64,
+    /// The world frame's name.
+    pub world_frame: String,
+    /// The sensor frame's name.
+    pub sensor_frame: String,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        Self {
+            serve: None,
+            record: None,
+            map_every: 10,
+            world_frame: crate::topics::WORLD_FRAME.into(),
+            sensor_frame: crate::topics::SENSOR_FRAME.into(),
+        }
+    }
+}
+
+/// What the recording says about the run (MCAP metadata `keylo` and attachment `config.toml`).
+#[derive(Debug, Clone, Default)]
+pub struct RunInfo {
+    /// The resolved config (TOML), attached to the recording as `config.toml`.
+    pub config_toml: Option<String>,
+    /// Where the config came from (a path, or "defaults").
+    pub config_origin: String,
+    /// The source's description.
+    pub source: String,
+    /// The command that made the run.
+    pub command: String,
+}

@@ -1,0 +1,200 @@
+//! The input scan as a ROS 2 `sensor_msgs/msg/PointCloud2` (XCDR1, little endian): what a ROS 2
+//! user expects in a recording, what Foxglove and Lichtblick draw, and what `keylo run --data`
+//! reads back (docs/formats.md, "ROS recordings").
+
+use keylo_core::LidarFrame;
+
+/// The `ros2msg` schema of `sensor_msgs/msg/PointCloud2`, with its dependencies as ROS 2's
+/// recorder writes them.
+pub const POINTCLOUD2_SCHEMA: &str = "std_msgs/Header header
+uint32 height
+uint32 width
+PointField[] fields
+bool is_bigendian
+uint32 point_step
+uint32 row_step
+uint8[] data
+bool is_dense
+================================================================================
+MSG: std_msgs/Header
+builtin_interfaces/Time stamp
+string frame_id
+================================================================================
+MSG: builtin_interfaces/Time
+int32 sec
+uint32 nanosec
+================================================================================
+MSG: sensor_msgs/PointField
+uint8 INT8=1
+uint8 UINT8=2
+uint8 INT16=3
+uint8 UINT16=4
+uint8 INT32=5
+uint8 UINT32=6
+uint8 FLOAT32=7
+uint8 FLOAT64=8
+string name
+uint32 offset
+uint8 datatype
+uint32 count
+";
+
+const FLOAT32: u8 = 7;
+const UINT16: u8 = 4;
+const UINT32: u8 = 6;
+
+/// A little-endian CDR writer (alignment counted after the 4-byte encapsulation header).
+struct Cdr(Vec<u8>);
+
+impl Cdr {
+    fn new(capacity: usize) -> Self {
+        let mut buf = Vec::with_capacity(capacity + 256);
+        buf.extend_from_slice(&[0, 1, 0, 0]);
+        Self(buf)
+    }
+    fn align(&mut self, n: usize) {
+        while !(self.0.len() - 4).is_multiple_of(n) {
+            self.0.push(0);
+        }
+    }
+    fn u8(&mut self, v: u8) {
+        self.0.push(v);
+    }
+    fn u32(&mut self, v: u32) {
+        self.align(4);
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    fn string(&mut self, s: &str) {
+        self.u32(s.len() as u32 + 1);
+        self.0.extend_from_slice(s.as_bytes());
+        self.0.push(0);
+    }
+}
+
+/// One field of the cloud: name, datatype, size in bytes.
+type Field = (&'static str, u8, u32);
+
+/// The message's bytes, with `points` rows of `point_step` bytes already laid out in `data`.
+fn message(
+    stamp_ns: u64,
+    frame_id: &str,
+    (height, width): (u32, u32),
+    fields: &[Field],
+    data: &[u8],
+    dense: bool,
+) -> Vec<u8> {
+    let point_step: u32 = fields.iter().map(|f| f.2).sum();
+    let mut w = Cdr::new(data.len());
+    w.u32((stamp_ns / 1_000_000_000).min(i32::MAX as u64) as u32);
+    w.u32((stamp_ns % 1_000_000_000) as u32);
+    w.string(frame_id);
+    w.u32(height);
+    w.u32(width);
+    w.u32(fields.len() as u32);
+    let mut offset = 0;
+    for (name, datatype, size) in fields {
+        w.string(name);
+        w.u32(offset);
+        w.u8(*datatype);
+        w.u32(1);
+        offset += size;
+    }
+    w.u8(0);
+    w.u32(point_step);
+    w.u32(point_step * width);
+    w.u32(data.len() as u32);
+    w.0.extend_from_slice(data);
+    w.u8(u8::from(dense));
+    w.0
+}
+
+fn push_f32(data: &mut Vec<u8>, v: f32) {
+    data.extend_from_slice(&v.to_le_bytes());
+}
+
+/// Nanoseconds from `t0` to `t` as the `t` field (0 when before `t0` or not finite).
+fn offset_ns(t: f64, t0: f64) -> u32 {
+    let d = (t - t0) * 1e9;
+    if d.is_finite() && d > 0.0 {
+        d.round().min(u32::MAX as f64) as u32
+    } else {
+        0
+    }
+}
+
+/// The frame's scan: for a sensor's grid, the organised `rows × cols` cloud (`x y z` 0 where
+/// there is no return, as ouster-ros writes it; `intensity` = signal, `reflectivity`, `near_ir`,
+/// `range` in metres, `t` ns after the stamp); for an unorganised source every point of the
+/// scan (`x y z`, `intensity` and `ring` when the file had them, `t`). The stamp is the frame's
+/// timestamp.
+pub fn scan(frame: &LidarFrame, frame_id: &str) -> Vec<u8> {
+    let stamp = crate::convert::nanos(frame.timestamp);
+    match &frame.scan {
+        Some(s) => {
+            let mut fields: Vec<Field> =
+                vec![("x", FLOAT32, 4), ("y", FLOAT32, 4), ("z", FLOAT32, 4)];
+            if s.intensity.is_some() {
+                fields.push(("intensity", FLOAT32, 4));
+            }
+            if s.times.is_some() {
+                fields.push(("t", UINT32, 4));
+            }
+            if s.ring.is_some() {
+                fields.push(("ring", UINT16, 2));
+            }
+            let step: u32 = fields.iter().map(|f| f.2).sum();
+            let mut data = Vec::with_capacity(s.points.len() * step as usize);
+            for (i, p) in s.points.iter().enumerate() {
+                for v in [p.x, p.y, p.z] {
+                    push_f32(&mut data, v as f32);
+                }
+                if let Some(v) = &s.intensity {
+                    push_f32(&mut data, v[i]);
+                }
+                if let Some(t) = &s.times {
+                    data.extend_from_slice(&offset_ns(t[i], 0.0).to_le_bytes());
+                }
+                if let Some(r) = &s.ring {
+                    data.extend_from_slice(&r[i].to_le_bytes());
+                }
+            }
+            let n = s.points.len() as u32;
+            message(stamp, frame_id, (1, n), &fields, &data, true)
+        }
+        None => organised(frame, frame_id, stamp),
+    }
+}
+
+fn organised(frame: &LidarFrame, frame_id: &str, stamp: u64) -> Vec<u8> {
+    let fields: [Field; 8] = [
+        ("x", FLOAT32, 4),
+        ("y", FLOAT32, 4),
+        ("z", FLOAT32, 4),
+        ("intensity", FLOAT32, 4),
+        ("reflectivity", FLOAT32, 4),
+        ("near_ir", FLOAT32, 4),
+        ("range", FLOAT32, 4),
+        ("t", UINT32, 4),
+    ];
+    let n = frame.rows * frame.cols;
+    let mut data = Vec::with_capacity(n * 32);
+    for i in 0..n {
+        let valid = frame.valid.get(i).copied().unwrap_or(false);
+        let p = frame.points.get(i).copied().unwrap_or_default();
+        let (xyz, range) = match valid {
+            true => ([p.x, p.y, p.z], frame.range.get(i).copied().unwrap_or(0.0)),
+            false => ([0.0; 3], 0.0),
+        };
+        for v in xyz {
+            push_f32(&mut data, v);
+        }
+        for ch in [&frame.signal, &frame.reflectivity, &frame.near_ir] {
+            push_f32(&mut data, ch.get(i).copied().unwrap_or(0.0));
+        }
+        push_f32(&mut data, range);
+        let t = offset_ns(frame.pixel_time(i), frame.timestamp);
+        data.extend_from_slice(&t.to_le_bytes());
+    }
+    let shape = (frame.rows as u32, frame.cols as u32);
+    message(stamp, frame_id, shape, &fields, &data, false)
+}
