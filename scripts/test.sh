@@ -20,3 +20,8 @@ bash "$ROOT/scripts/python-test.sh"
 # The ROS 2 node against an independent DDS implementation (Cyclone DDS), inside a private
 # network namespace (docs/ros2.md).
 bash "$ROOT/scripts/ros2/interop-test.sh"
+
+# The live view received by an independent client of the Foxglove WebSocket protocol (npm's
+# @foxglove/ws-protocol), and viewers that hang or go away (docs/report.md, "Watching a run
+# live"). TCP on 127.0.0.1 only.
+bash "$ROOT/scripts/view/live-test.sh"

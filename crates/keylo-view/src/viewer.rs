@@ -280,6 +280,11 @@ impl Viewer {
     }
 }
 
+/// Messages queued per client before its oldest are dropped: about ten frames' worth, so a
+/// stalled client holds tens of megabytes at most (a scan of 1024×128 is 4 MB), not the SDK's
+/// default 1024 messages.
+const BACKLOG: usize = 128;
+
 /// Starts the WebSocket server at `HOST:PORT`.
 fn serve(ctx: &Arc<Context>, address: &str) -> Result<WebSocketServerHandle, ViewError> {
     let err = |message: String| ViewError::Serve {
@@ -295,6 +300,7 @@ fn serve(ctx: &Arc<Context>, address: &str) -> Result<WebSocketServerHandle, Vie
     let host = host.trim_start_matches('[').trim_end_matches(']');
     ctx.websocket_server()
         .name("keylo")
+        .message_backlog_size(BACKLOG)
         .bind(host, port)
         .start_blocking()
         .map_err(|e| err(e.to_string()))
