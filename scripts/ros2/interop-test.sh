@@ -16,7 +16,7 @@ if [ ! -x "$VENV/bin/python" ]; then
     python3 -m venv "$VENV"
 fi
 "$VENV/bin/pip" install -q --disable-pip-version-check "cyclonedds>=11,<12" "rosbags>=0.10,<0.12" \
-    "mcap>=1.2,<2" "numpy>=1.24"
+    "mcap>=1.2,<2" "mcap-protobuf-support>=0.5" "numpy>=1.24"
 if [ ! -x "$BIN" ]; then
     cargo build -q --locked -p keylo-cli
 fi

@@ -76,6 +76,7 @@ def run_stream(name, clouds, args, work, bad_after=None, config_sets=(), config=
     with open(log_path, "w") as log:
         node = subprocess.Popen(
             [args.keylo, "ros2"] + cfg + ["--out", str(node_dir), "--map-out", str(out / "keylo-ros2-map"),
+             "--record", str(out / "node.mcap"),
              "--set", "ros2.input_reliability=reliable",
              "--set", f"ros2.domain_id={args.domain}"] + sets, stdout=log, stderr=log)
     peer = Peer(args.domain)
@@ -169,6 +170,26 @@ def run_stream(name, clouds, args, work, bad_after=None, config_sets=(), config=
           f"is not keylo run's ({run_map['points']}, {run_map['keyframes']})")
     print(f"{name}: the node's map holds keylo run's {run_map['points']} points and "
           f"{run_map['keyframes']} keyframes", flush=True)
+    check_recording(name, out / "node.mcap", got)
+
+
+def check_recording(name, path, answers):
+    """`keylo ros2 --record`: a pose per answer, the last one the last odometry published."""
+    from mcap.reader import make_reader
+    from mcap_protobuf.decoder import DecoderFactory
+
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        poses = [d for _, _, _, d in reader.iter_decoded_messages(topics=["/keylo/pose"])]
+        scans = sum(1 for _ in reader.iter_messages(topics=["/keylo/scan"]))
+    check(len(poses) == len(answers) == scans,
+          f"{name}: the recording holds {len(poses)} poses and {scans} scans for {len(answers)} answers")
+    if poses and answers:
+        a, b = poses[-1].pose.position, answers[-1].pose.pose.position
+        check(max(abs(a.x - b.x), abs(a.y - b.y), abs(a.z - b.z)) < 1e-9,
+              f"{name}: the recording's last pose is not the last odometry published")
+    print(f"{name}: the node's recording holds {len(poses)} poses and scans, the last its odometry",
+          flush=True)
 
 
 def main():

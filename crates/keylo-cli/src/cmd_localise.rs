@@ -10,9 +10,9 @@ use anyhow::{anyhow, Context, Result};
 use clap::Args;
 use keylo::map::localise::{initial_pose, pose_of_text, pose_of_values, LocaliseConfig, Localiser};
 use keylo::map::Map;
-use keylo::Trajectory;
+use keylo::{FrameResult, MapFit, Trajectory};
 
-use crate::configs;
+use crate::{configs, view_out};
 
 #[derive(Debug, Args)]
 pub struct LocaliseArgs {
@@ -37,6 +37,8 @@ pub struct LocaliseArgs {
     /// Output folder: trajectory.tum (the map's frame) and localise.csv.
     #[arg(long)]
     pub out: PathBuf,
+    #[command(flatten)]
+    pub view: crate::arg_groups::ViewArgs,
 }
 
 pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
@@ -65,8 +67,22 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         (None, v) => Some(pose_of_values(v).map_err(|e| anyhow!("localise.initial_pose: {e}"))?),
     };
     let initial = initial_pose(&map, given)?;
-    let mut localiser = Localiser::new(&map.points()?, initial, settings)?;
+    let prior = map.points()?;
+    let mut localiser = Localiser::new(&prior, initial, settings)?;
     let mut source = keylo::build_source(&config, &registry)?;
+    let mut view = view_out::start(
+        &args.view,
+        view_out::RunDescription {
+            command: std::env::args().collect::<Vec<_>>().join(" "),
+            config_origin: config.origin.clone(),
+            config_toml: keylo::config::render_resolved(&config, &registry),
+            source: source.info().description,
+            images: Vec::new(),
+            reference: source.ground_truth(),
+            world_frame: "map",
+        },
+        quiet,
+    )?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let csv_path = args.out.join("localise.csv");
@@ -93,6 +109,21 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
             );
         }
         trajectory.push(stamp, l.pose);
+        if let Some(v) = view.as_mut() {
+            let mut result = FrameResult::with_pose(frame.index, stamp, l.pose);
+            result.iterations = l.iterations;
+            result.converged = l.converged;
+            result.registered_points = l.points;
+            result.map_points = prior.len();
+            result.fit = Some(MapFit {
+                fitness: l.fitness,
+                tracking: l.tracking,
+            });
+            // The prior map is fixed: sent with the first frame, then every N frames for
+            // viewers that connect later.
+            let map = v.wants_map().then_some(prior.as_slice());
+            v.send(&frame, &result, None, None, map, s);
+        }
         writeln!(
             csv,
             "{},{stamp:.9},{:.4},{},{},{},{:.3}",
@@ -105,6 +136,9 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         )?;
     }
     csv.flush()?;
+    if let Some(v) = view {
+        v.finish_with(&prior)?;
+    }
     let tum = args.out.join("trajectory.tum");
     keylo::io::trajectory::write_tum(&tum, &trajectory)
         .with_context(|| format!("writing {}", tum.display()))?;

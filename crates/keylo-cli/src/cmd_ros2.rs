@@ -17,7 +17,7 @@ use crate::degenerate_out::DegenerateLog;
 use crate::journal::Journal;
 use crate::report::{self, Summary, Totals};
 use crate::ros2_map::NodeMap;
-use crate::{configs, resources};
+use crate::{configs, resources, view_out};
 
 #[derive(Debug, Args)]
 pub struct Ros2Args {
@@ -39,6 +39,8 @@ pub struct Ros2Args {
     /// End when no cloud came for this many seconds (0: run until Ctrl-C or SIGTERM).
     #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
     pub idle_timeout: f64,
+    #[command(flatten)]
+    pub view: crate::arg_groups::ViewArgs,
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -61,15 +63,13 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         None => None,
     };
     let mut odometry = Odometry::build(&config, &registry)?;
+    let resolved = keylo::config::render_resolved(&config, &registry);
     let mut journal = match &args.out {
         Some(dir) => {
             std::fs::create_dir_all(dir)
                 .with_context(|| format!("creating output directory {}", dir.display()))?;
-            std::fs::write(
-                dir.join("config.toml"),
-                keylo::config::render_resolved(&config, &registry),
-            )
-            .with_context(|| format!("writing {}", dir.join("config.toml").display()))?;
+            std::fs::write(dir.join("config.toml"), &resolved)
+                .with_context(|| format!("writing {}", dir.join("config.toml").display()))?;
             Some(Journal::create(dir, &config.output)?)
         }
         None => None,
@@ -97,7 +97,20 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     };
     let mut node = Ros2Node::start(ros2, &odometry)?;
     node.set_registrar(&config.registrar.kind);
-    node.want_features(map.as_ref().is_some_and(NodeMap::wants_features));
+    let mut view = view_out::start(
+        &args.view,
+        view_out::RunDescription {
+            command: std::env::args().collect::<Vec<_>>().join(" "),
+            config_origin: config.origin.clone(),
+            config_toml: resolved,
+            source: format!("keylo ros2 ({})", config.source.kind),
+            images: (odometry.image.as_ref()).map_or_else(Vec::new, |b| b.image_names()),
+            reference: None,
+            world_frame: "odom",
+        },
+        quiet,
+    )?;
+    node.want_features(map.as_ref().is_some_and(NodeMap::wants_features) || view.is_some());
     if let Err(e) = ctrlc::set_handler(|| {
         STOP.store(true, Ordering::SeqCst);
         keylo::io::ouster::stop_live_sources();
@@ -124,6 +137,9 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         totals.odometry_seconds += p.seconds;
         if let Some(m) = map.as_mut() {
             m.add(p);
+        }
+        if let Some(v) = view.as_mut() {
+            v.frame(p.odometry, p.frame, p.result, p.features, p.seconds);
         }
         trajectory.push(p.result.stamp, p.result.pose);
         if let (Some(f), None) = (latency.as_mut(), &write_error) {
@@ -170,6 +186,8 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         None => (node.run(&mut odometry, &STOP, idle, on_frame), Vec::new()),
     };
     let counters: std::collections::BTreeMap<String, u64> = counters.into_iter().collect();
+    // A recording that cannot be closed is said after the node's own files are written.
+    let view_error = view.map(|v| v.finish(&odometry)).transpose().err();
     let maps = map.map(NodeMap::finish).unwrap_or_default();
     report::log_counters(&counters);
     let (wall_hz, cpu_percent) = clock.rates(totals.frames);
@@ -218,6 +236,9 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         report::write_summary(dir, &summary)?;
     }
     drop(journal);
+    if let Some(e) = view_error {
+        return Err(e.context("the node ran, but its recording is incomplete"));
+    }
     if let Some(e) = write_error {
         return Err(e.context("the node ran, but its files are incomplete"));
     }

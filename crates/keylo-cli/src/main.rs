@@ -122,9 +122,14 @@ fn init_logging(verbose: u8, quiet: bool) {
     };
     // RustDDS and ros2-client (`keylo ros2`) log protocol details at info and the ROS
     // distribution they were built for at warn: their warnings and errors only, unless
-    // KEYLO_LOG asks for them.
+    // KEYLO_LOG asks for them. The live view's server (`--view`) says at error level that a
+    // viewer went away without closing: not the run's error, shown from -v on.
+    let viewers = if quiet || verbose == 0 { "off" } else { level };
     let filter = tracing_subscriber::EnvFilter::try_from_env("KEYLO_LOG").unwrap_or_else(|_| {
-        tracing_subscriber::EnvFilter::new(format!("{level},rustdds=warn,ros2_client=error"))
+        tracing_subscriber::EnvFilter::new(format!(
+            "{level},rustdds=warn,ros2_client=error,\
+             foxglove::websocket::connected_client::poller={viewers}"
+        ))
     });
     tracing_subscriber::fmt()
         .with_env_filter(filter)

@@ -3,7 +3,8 @@
 //! message saying how to build it.
 
 use anyhow::Result;
-use keylo::{FrameFeatures, FrameResult, LidarFrame, Odometry, Trajectory};
+use keylo::{FrameFeatures, FrameResult, LidarFrame, Odometry, PointCloud, Trajectory};
+use nalgebra::Point3;
 
 use crate::arg_groups::ViewArgs;
 
@@ -17,6 +18,8 @@ pub struct RunDescription {
     pub images: Vec<String>,
     /// The reference trajectory to draw beside the estimate.
     pub reference: Option<Trajectory>,
+    /// The frame of the poses and the map (`odom`; `map` when localising in a saved map).
+    pub world_frame: &'static str,
 }
 
 /// A started viewer and/or recording.
@@ -39,6 +42,7 @@ pub fn start(args: &ViewArgs, run: RunDescription, quiet: bool) -> Result<Option
     let mut options = keylo_view::ViewOptions {
         serve: args.view.clone(),
         record: args.record.clone(),
+        world_frame: run.world_frame.into(),
         ..Default::default()
     };
     if let Some(n) = args.view_map_every {
@@ -106,20 +110,44 @@ impl Session {
         seconds: f64,
     ) {
         let map = self.0.wants_map().then(|| odometry.local_map());
+        let cloud = odometry.last_cloud();
+        self.send(frame, result, features, cloud, map.as_deref(), seconds);
+    }
+
+    /// Whether the next frame sends a map (only then is it worth fetching).
+    pub fn wants_map(&self) -> bool {
+        self.0.wants_map()
+    }
+
+    /// Sends one frame with its registered cloud (sensor frame) and, when
+    /// [`Session::wants_map`] said so, the map (world frame).
+    pub fn send(
+        &mut self,
+        frame: &LidarFrame,
+        result: &FrameResult,
+        features: Option<&FrameFeatures>,
+        cloud: Option<&PointCloud>,
+        map: Option<&[Point3<f64>]>,
+        seconds: f64,
+    ) {
         self.0.frame(&keylo_view::FrameView {
             frame,
             result,
             features,
-            cloud: odometry.last_cloud(),
-            map: map.as_deref(),
+            cloud,
+            map,
             seconds,
         });
     }
 
     /// Sends the last map, stops the server and closes the recording (saying where it is).
     pub fn finish(self, odometry: &Odometry) -> Result<()> {
-        let map = odometry.local_map();
-        if let Some(r) = self.0.finish(Some(&map))? {
+        self.finish_with(&odometry.local_map())
+    }
+
+    /// [`Session::finish`] with the map given.
+    pub fn finish_with(self, map: &[Point3<f64>]) -> Result<()> {
+        if let Some(r) = self.0.finish(Some(map))? {
             tracing::info!(
                 "recorded {} frames to {} ({:.1} MB)",
                 r.frames,
@@ -144,7 +172,27 @@ impl Session {
         match *self {}
     }
 
+    pub fn wants_map(&self) -> bool {
+        match *self {}
+    }
+
+    pub fn send(
+        &mut self,
+        _: &LidarFrame,
+        _: &FrameResult,
+        _: Option<&FrameFeatures>,
+        _: Option<&PointCloud>,
+        _: Option<&[Point3<f64>]>,
+        _: f64,
+    ) {
+        match *self {}
+    }
+
     pub fn finish(self, _: &Odometry) -> Result<()> {
+        match self {}
+    }
+
+    pub fn finish_with(self, _: &[Point3<f64>]) -> Result<()> {
         match self {}
     }
 }

@@ -50,6 +50,8 @@ pub struct NodeStats {
 /// comes here too, with nothing published).
 pub struct Published<'a> {
     pub result: &'a FrameResult,
+    /// The pipeline after the frame (its registered cloud, its local map).
+    pub odometry: &'a Odometry,
     /// The frame registered (sensor frame, as the cloud made it).
     pub frame: &'a LidarFrame,
     /// What the feature stages made of it, when the node asked for them
@@ -312,6 +314,7 @@ impl Ros2Node {
         self.stats.frames += 1;
         on_frame(&Published {
             result: &result,
+            odometry,
             frame,
             features: features.as_ref(),
             resets: self.stats.resets,

@@ -17,7 +17,9 @@ pub const SCHEMA: &str = r#"{
     "iterations": {"type": "integer"},
     "converged": {"type": "boolean"},
     "odometry_ms": {"type": "number", "description": "time of every stage of the frame, ms"},
-    "degenerate": {"type": ["string", "null"], "description": "why the pose is (partly) predicted"}
+    "degenerate": {"type": ["string", "null"], "description": "why the pose is (partly) predicted"},
+    "fitness": {"type": ["number", "null"], "description": "share of points near the prior map (localisation)"},
+    "tracking": {"type": ["boolean", "null"], "description": "fitness reached the threshold (localisation)"}
   }
 }"#;
 
@@ -34,6 +36,8 @@ pub fn message(r: &FrameResult, odometry_ms: f64) -> Vec<u8> {
         "converged": r.converged,
         "odometry_ms": odometry_ms,
         "degenerate": r.degenerate.map(|d| d.label()),
+        "fitness": r.fit.map(|f| f.fitness),
+        "tracking": r.fit.map(|f| f.tracking),
     });
     v.to_string().into_bytes()
 }

@@ -88,6 +88,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             source: info.description.clone(),
             images: (pipeline.odometry.image.as_ref()).map_or_else(Vec::new, |b| b.image_names()),
             reference,
+            world_frame: "odom",
         },
         quiet,
     )?;
