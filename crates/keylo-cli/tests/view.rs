@@ -38,7 +38,12 @@ fn run_and_localise_record_their_streams() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let (counts, stats) = read(&dir.path().join("run.mcap"));
-    for topic in ["/keylo/scan", "/keylo/pose", "/keylo/registered", "/keylo/stats"] {
+    for topic in [
+        "/keylo/scan",
+        "/keylo/pose",
+        "/keylo/registered",
+        "/keylo/stats",
+    ] {
         assert_eq!(counts.get(topic), Some(&6), "{topic}: {counts:?}");
     }
     // Frames 0, 2 and 4, then after the last.
@@ -56,7 +61,9 @@ fn run_and_localise_record_their_streams() {
     // The fixed map with the first frame and after the last.
     assert_eq!(counts.get("/keylo/map"), Some(&2), "{counts:?}");
     assert!(
-        stats.iter().all(|s| s["tracking"] == true && s["fitness"].as_f64().is_some()),
+        stats
+            .iter()
+            .all(|s| s["tracking"] == true && s["fitness"].as_f64().is_some()),
         "{stats:?}"
     );
 }
@@ -76,7 +83,10 @@ fn bad_view_and_record_options_are_errors_naming_them() {
         dir.path(),
     );
     expect_failure(&o, 2, &format!("--view 127.0.0.1:{port}: "));
-    let o = keylo_line("run --data data --out a --record nowhere/run.mcap", dir.path());
+    let o = keylo_line(
+        "run --data data --out a --record nowhere/run.mcap",
+        dir.path(),
+    );
     expect_failure(&o, 2, "--record nowhere/run.mcap: cannot create it");
 }
 

@@ -17,15 +17,16 @@ pub const SCHEMA: &str = r#"{
     "iterations": {"type": "integer"},
     "converged": {"type": "boolean"},
     "odometry_ms": {"type": "number", "description": "time of every stage of the frame, ms"},
-    "degenerate": {"type": ["string", "null"], "description": "why the pose is (partly) predicted"},
-    "fitness": {"type": ["number", "null"], "description": "share of points near the prior map (localisation)"},
-    "tracking": {"type": ["boolean", "null"], "description": "fitness reached the threshold (localisation)"}
+    "degenerate": {"type": "string", "description": "why the pose is (partly) predicted; absent when it is not"},
+    "fitness": {"type": "number", "description": "share of points near the prior map (localisation only)"},
+    "tracking": {"type": "boolean", "description": "fitness reached the threshold (localisation only)"}
   }
 }"#;
 
-/// One frame's figures, serialised.
+/// One frame's figures, serialised (fields without a value are left out: viewers' JSON schema
+/// readers take one type per field).
 pub fn message(r: &FrameResult, odometry_ms: f64) -> Vec<u8> {
-    let v = json!({
+    let mut v = json!({
         "frame": r.index,
         "stamp": r.stamp,
         "keypoints": r.keypoints,
@@ -35,9 +36,13 @@ pub fn message(r: &FrameResult, odometry_ms: f64) -> Vec<u8> {
         "iterations": r.iterations,
         "converged": r.converged,
         "odometry_ms": odometry_ms,
-        "degenerate": r.degenerate.map(|d| d.label()),
-        "fitness": r.fit.map(|f| f.fitness),
-        "tracking": r.fit.map(|f| f.tracking),
     });
+    if let Some(d) = r.degenerate {
+        v["degenerate"] = json!(d.label());
+    }
+    if let Some(f) = r.fit {
+        v["fitness"] = json!(f.fitness);
+        v["tracking"] = json!(f.tracking);
+    }
     v.to_string().into_bytes()
 }

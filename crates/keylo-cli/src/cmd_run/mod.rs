@@ -117,8 +117,6 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         &mut outcome,
     );
     progress.finish_and_clear();
-    // A recording that cannot be closed fails the run, after its results are written.
-    let view_error = view.map(|v| v.finish(&pipeline.odometry)).transpose().err();
     // The map holds the frames done, also when the run stopped early.
     let map = map.map(MapBuilder::finish).transpose()?;
     if let Some(g) = &pose_graph {
@@ -133,6 +131,9 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         }
     }
     let (wall_hz, cpu_percent) = clock.rates(outcome.totals.frames);
+    // After the rates: closing lets the viewers' queues drain (a fixed pause, not the frames'
+    // time). A recording that cannot be closed fails the run, after its results are written.
+    let view_error = view.map(|v| v.finish(&pipeline.odometry)).transpose().err();
 
     let mut summary = Summary {
         keylo_version: env!("CARGO_PKG_VERSION"),
