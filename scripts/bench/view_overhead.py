@@ -1,7 +1,7 @@
 """What watching or recording a run costs (docs/results/view.md): `keylo run` frames per second
 without a viewer, with `--view` and no client, with `--view` and a client subscribed to every
-topic (scripts/view/ws-client.mjs, npm's @foxglove/ws-protocol, on the same machine), and with
-`--record`; each configuration's modes interleaved, REPS times, medians, ratios to the plain run
+topic (scripts/view/ws-client.mjs, npm's @foxglove/ws-protocol, on the same machine) at the
+default `--view-hz 10` and at every frame (`--view-hz 0`), and with `--record`; each configuration's modes interleaved, REPS times, medians, ratios to the plain run
 measured in the same invocation.
 
     python3 scripts/bench/view_overhead.py [--frames 150] [--reps 3] [--out /tmp/viewbench]
@@ -20,7 +20,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 KEYLO = os.environ.get("KEYLO", str(ROOT / "target" / "release" / "keylo"))
 CONFIGS = ["configs/paper/raw-kiss-icp.toml", "configs/paper/indoor-akaze-kiss-icp.toml"]
-MODES = ["plain", "view, no client", "view, client", "record"]
+MODES = ["plain", "view, no client", "view, client", "view, client, every frame", "record"]
 
 
 def run(config, data, out, mode, work):
@@ -29,13 +29,15 @@ def run(config, data, out, mode, work):
     mcap = work / "run.mcap"
     if mode.startswith("view"):
         cmd += ["--view", "127.0.0.1:0"]
-        if mode == "view, client":
+        if mode.startswith("view, client"):
             cmd += ["--view-wait", "60"]
+        if mode.endswith("every frame"):
+            cmd += ["--view-hz", "0"]
     if mode == "record":
         cmd += ["--record", str(mcap)]
     err = open(work / "keylo.err", "w")
     proc = subprocess.Popen(cmd, stderr=err)
-    if mode == "view, client":
+    if mode.startswith("view, client"):
         url = None
         for _ in range(600):
             m = re.search(r"ws://127\.0\.0\.1:\d+", (work / "keylo.err").read_text())

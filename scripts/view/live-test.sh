@@ -23,7 +23,10 @@ RUN=("$KEYLO" run "$ROOT/configs/paper/indoor-akaze-kiss-icp.toml" --set source.
 "${RUN[@]}" --out "$WORK/plain"
 
 for mode in all stall drop; do
-    "${RUN[@]}" --out "$WORK/$mode" --view 127.0.0.1:0 --view-wait 60 2> "$WORK/$mode.err" &
+    # `all` takes every frame's large messages too (--view-hz 0), to count them.
+    hz=10; [ "$mode" = all ] && hz=0
+    "${RUN[@]}" --out "$WORK/$mode" --view 127.0.0.1:0 --view-wait 60 --view-hz "$hz" \
+        2> "$WORK/$mode.err" &
     run=$!
     url=""
     for _ in $(seq 300); do

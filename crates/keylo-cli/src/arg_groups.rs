@@ -72,6 +72,11 @@ pub struct ViewArgs {
     /// run --data FILE`), with the run's config attached. An existing file is replaced.
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
+    /// With --view: the scan, registered cloud, images and map at most HZ times a second
+    /// (default 10, a sensor's rate; 0: every frame); poses and figures go every frame, and
+    /// --record takes everything.
+    #[arg(long, value_name = "HZ")]
+    pub view_hz: Option<f64>,
     /// Send the local map, the trajectory and the reference every N frames (and after the
     /// last; default 10): the map is the largest message.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]

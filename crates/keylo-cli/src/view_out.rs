@@ -48,17 +48,22 @@ pub fn start(args: &ViewArgs, run: RunDescription, quiet: bool) -> Result<Option
     if let Some(n) = args.view_map_every {
         options.map_every = n;
     }
+    if let Some(hz) = args.view_hz {
+        anyhow::ensure!(
+            hz.is_finite() && hz >= 0.0,
+            "--view-hz {hz}: expected a rate ≥ 0 (0: every frame)"
+        );
+        options.max_hz = hz;
+    }
     let info = keylo_view::RunInfo {
         config_toml: Some(run.config_toml),
         config_origin: run.config_origin,
         source: run.source,
         command: run.command,
+        images: run.images,
+        reference: run.reference,
     };
-    let mut viewer = keylo_view::Viewer::start(&options, &info)?;
-    viewer.announce_images(&run.images);
-    if let Some(r) = run.reference {
-        viewer.set_reference(r);
-    }
+    let viewer = keylo_view::Viewer::start(&options, &info)?;
     if let Some(url) = viewer.url() {
         if !quiet {
             eprintln!(

@@ -6,8 +6,10 @@
 //! recording is also a data set `keylo run --data` reads), the registered cloud, the local map,
 //! the pose, the sensor's transform, the trajectory and the reference (Foxglove schemas), the
 //! LiDAR images with their keypoints, and the frame's figures as JSON. Nothing is encoded for a
-//! live stream no client subscribed to, and a slow or vanished client never holds the run up:
-//! its queue drops its oldest messages.
+//! live stream no client subscribed to, the large live messages go at most
+//! [`ViewOptions::max_hz`] times a second, and a slow or vanished client never holds the run
+//! up: its queue drops its oldest messages. The recording takes every frame, written on a
+//! thread of its own.
 //!
 //! ```no_run
 //! use keylo_view::{RunInfo, ViewOptions, Viewer};
@@ -23,11 +25,14 @@ mod channels;
 mod convert;
 mod error;
 mod images;
+mod live;
 mod options;
 mod record;
+mod recorder;
 mod reference;
 mod scan_cdr;
 mod stats;
+mod streams;
 pub mod topics;
 mod viewer;
 

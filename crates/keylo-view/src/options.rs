@@ -12,6 +12,10 @@ pub struct ViewOptions {
     /// The local map, the trajectory and the reference are sent every this many frames (and
     /// with the last frame): the map is the largest message by far.
     pub map_every: u64,
+    /// The live view's large messages (scan, registered cloud, images, map) at most this many
+    /// times a second of wall time; 0: every frame. Poses and figures go every frame, and the
+    /// recording takes everything.
+    pub max_hz: f64,
     /// The world frame's name.
     pub world_frame: String,
     /// The sensor frame's name.
@@ -24,13 +28,15 @@ impl Default for ViewOptions {
             serve: None,
             record: None,
             map_every: 10,
+            max_hz: 10.0,
             world_frame: crate::topics::WORLD_FRAME.into(),
             sensor_frame: crate::topics::SENSOR_FRAME.into(),
         }
     }
 }
 
-/// What the recording says about the run (MCAP metadata `keylo` and attachment `config.toml`).
+/// What the viewer is told about the run: the recording's metadata `keylo` and attachment
+/// `config.toml`, the images to advertise, the reference to draw.
 #[derive(Debug, Clone, Default)]
 pub struct RunInfo {
     /// The resolved config (TOML), attached to the recording as `config.toml`.
@@ -41,4 +47,9 @@ pub struct RunInfo {
     pub source: String,
     /// The command that made the run.
     pub command: String,
+    /// The images the pipeline makes (advertised before the first frame, so a viewer can
+    /// subscribe to them from the start).
+    pub images: Vec<String>,
+    /// The reference trajectory (ground truth) to draw beside the estimate.
+    pub reference: Option<keylo_core::Trajectory>,
 }
