@@ -74,17 +74,18 @@ impl Cdr {
 /// One field of the cloud: name, datatype, size in bytes.
 type Field = (&'static str, u8, u32);
 
-/// The message's bytes, with `points` rows of `point_step` bytes already laid out in `data`.
+/// The message's bytes; `fill` writes the `data` field's `len` bytes in place (no copy of a
+/// multi-megabyte cloud).
 fn message(
     stamp_ns: u64,
     frame_id: &str,
     (height, width): (u32, u32),
     fields: &[Field],
-    data: &[u8],
     dense: bool,
+    (len, fill): (usize, impl FnOnce(&mut [u8])),
 ) -> Vec<u8> {
     let point_step: u32 = fields.iter().map(|f| f.2).sum();
-    let mut w = Cdr::new(data.len());
+    let mut w = Cdr::new(len);
     w.u32((stamp_ns / 1_000_000_000).min(i32::MAX as u64) as u32);
     w.u32((stamp_ns % 1_000_000_000) as u32);
     w.string(frame_id);
@@ -102,8 +103,10 @@ fn message(
     w.u8(0);
     w.u32(point_step);
     w.u32(point_step * width);
-    w.u32(data.len() as u32);
-    w.0.extend_from_slice(data);
+    w.u32(len as u32);
+    let start = w.0.len();
+    w.0.resize(start + len, 0);
+    fill(&mut w.0[start..]);
     w.u8(u8::from(dense));
     w.0
 }
@@ -159,7 +162,8 @@ pub fn scan(frame: &LidarFrame, frame_id: &str) -> Vec<u8> {
                 }
             }
             let n = s.points.len() as u32;
-            message(stamp, frame_id, (1, n), &fields, &data, true)
+            let copy = |out: &mut [u8]| out.copy_from_slice(&data);
+            message(stamp, frame_id, (1, n), &fields, true, (data.len(), copy))
         }
         None => organised(frame, frame_id, stamp),
     }
@@ -177,24 +181,26 @@ fn organised(frame: &LidarFrame, frame_id: &str, stamp: u64) -> Vec<u8> {
         ("t", UINT32, 4),
     ];
     let n = frame.rows * frame.cols;
-    let mut data = Vec::with_capacity(n * 32);
-    for i in 0..n {
-        let valid = frame.valid.get(i).copied().unwrap_or(false);
-        let p = frame.points.get(i).copied().unwrap_or_default();
-        let (xyz, range) = match valid {
-            true => ([p.x, p.y, p.z], frame.range.get(i).copied().unwrap_or(0.0)),
-            false => ([0.0; 3], 0.0),
-        };
-        for v in xyz {
-            push_f32(&mut data, v);
+    let channels = [&frame.signal, &frame.reflectivity, &frame.near_ir];
+    let fill = |data: &mut [u8]| {
+        for (i, out) in data.chunks_exact_mut(32).enumerate() {
+            // One 32-byte point: x y z intensity reflectivity near_ir range (f32), t (u32).
+            let mut point = [0f32; 7];
+            if frame.valid.get(i).copied().unwrap_or(false) {
+                let p = frame.points.get(i).copied().unwrap_or_default();
+                point[..3].copy_from_slice(&[p.x, p.y, p.z]);
+                point[6] = frame.range.get(i).copied().unwrap_or(0.0);
+            }
+            for (k, ch) in channels.iter().enumerate() {
+                point[3 + k] = ch.get(i).copied().unwrap_or(0.0);
+            }
+            for (k, v) in point.iter().enumerate() {
+                out[4 * k..4 * k + 4].copy_from_slice(&v.to_le_bytes());
+            }
+            let t = offset_ns(frame.pixel_time(i), frame.timestamp);
+            out[28..32].copy_from_slice(&t.to_le_bytes());
         }
-        for ch in [&frame.signal, &frame.reflectivity, &frame.near_ir] {
-            push_f32(&mut data, ch.get(i).copied().unwrap_or(0.0));
-        }
-        push_f32(&mut data, range);
-        let t = offset_ns(frame.pixel_time(i), frame.timestamp);
-        data.extend_from_slice(&t.to_le_bytes());
-    }
+    };
     let shape = (frame.rows as u32, frame.cols as u32);
-    message(stamp, frame_id, shape, &fields, &data, false)
+    message(stamp, frame_id, shape, &fields, false, (n * 32, fill))
 }
