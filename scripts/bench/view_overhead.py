@@ -49,14 +49,18 @@ def run(config, data, out, mode, work):
                                    str(work / "client.json"), "all"])
     if proc.wait() != 0:
         raise SystemExit(f"{' '.join(cmd)} failed: {(work / 'keylo.err').read_text()}")
-    received = 0
+    received, client_cpu = 0, 0.0
     if client:
-        client.wait(timeout=60)
+        _, _, usage = os.wait4(client.pid, 0)
+        client.returncode = 0
+        client_cpu = usage.ru_utime + usage.ru_stime
         received = sum(json.loads((work / "client.json").read_text())["topics"].values())
     size = mcap.stat().st_size if mode == "record" else 0
     mcap.unlink(missing_ok=True)
     summary = json.loads((out / "summary.json").read_text())
-    return summary["wall_hz"], received, size
+    # The client's CPU per second of the run (it runs on the same cores).
+    seconds = summary["frames"] / summary["wall_hz"]
+    return summary["wall_hz"], received, size, client_cpu / seconds
 
 
 def main():
@@ -76,22 +80,21 @@ def main():
     for rep in range(args.reps):
         for c in CONFIGS:
             for m in MODES:
-                rate, received, size = run(c, data, work / "out", m, work)
+                rate, received, size, cpu = run(c, data, work / "out", m, work)
                 hz[(c, m)].append(rate)
-                extra[(c, m)] = (received, size)
+                extra[(c, m)] = (received, size, cpu)
                 print(f"rep {rep}: {Path(c).stem:24} {m:16} {rate:7.2f} Hz", flush=True)
     print(f"\n{args.frames} frames of the simulated lab (1024×128), {args.reps} runs each, median frames/s; "
           f"keylo {KEYLO}\n")
-    print("| config | mode | frames/s | vs. plain | messages to the client | MCAP MB |")
-    print("|---|---|---|---|---|---|")
+    print("| config | mode | frames/s | vs. plain | messages to the client | client CPU (cores) | MCAP MB |")
+    print("|---|---|---|---|---|---|---|")
     for c in CONFIGS:
         base = statistics.median(hz[(c, "plain")])
         for m in MODES:
             med = statistics.median(hz[(c, m)])
-            received, size = extra[(c, m)]
+            received, size, cpu = extra[(c, m)]
             print(f"| {Path(c).stem} | {m} | {med:.2f} | {med / base:.3f} | {received or ''} | "
-                  f"{size / 1e6:.0f} |" if size else
-                  f"| {Path(c).stem} | {m} | {med:.2f} | {med / base:.3f} | {received or ''} | |")
+                  f"{f'{cpu:.2f}' if received else ''} | {f'{size / 1e6:.0f}' if size else ''} |")
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@
 mod channels;
 mod convert;
 mod error;
+mod frame_view;
 mod images;
 mod live;
 mod options;
@@ -37,6 +38,7 @@ pub mod topics;
 mod viewer;
 
 pub use error::ViewError;
+pub use frame_view::{FrameView, RecordSummary};
 pub use options::{RunInfo, ViewOptions};
 pub use scan_cdr::POINTCLOUD2_SCHEMA;
-pub use viewer::{FrameView, RecordSummary, Viewer};
+pub use viewer::Viewer;

@@ -8,8 +8,9 @@ use std::time::{Duration, Instant};
 use foxglove::{Context, WebSocketServerHandle};
 use keylo_core::Trajectory;
 
+use crate::frame_view::FrameView;
 use crate::streams::Streams;
-use crate::{FrameView, ViewError, ViewOptions};
+use crate::{ViewError, ViewOptions};
 
 /// Messages queued per client before its oldest are dropped: about ten frames' worth, so a
 /// stalled client holds tens of megabytes at most (a scan of 1024×128 is 4 MB), not the SDK's
@@ -35,7 +36,8 @@ impl Live {
     ) -> Result<Self, ViewError> {
         let ctx = Context::new();
         let (host, server) = serve(&ctx, address)?;
-        let streams = Streams::new(ctx, &options.world_frame, &options.sensor_frame, reference)?;
+        let frames = (options.world_frame.as_str(), options.sensor_frame.as_str());
+        let streams = Streams::new(ctx, frames, reference, false)?;
         Ok(Self {
             streams,
             server,

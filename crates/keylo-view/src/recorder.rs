@@ -10,8 +10,9 @@ use foxglove::Context;
 use keylo_core::{FrameFeatures, FrameResult, LidarFrame, PointCloud};
 use nalgebra::Point3;
 
+use crate::frame_view::{FrameView, RecordSummary};
 use crate::streams::Streams;
-use crate::{FrameView, RecordSummary, RunInfo, ViewError, ViewOptions};
+use crate::{RunInfo, ViewError, ViewOptions};
 
 /// Frames handed over and not yet written (each holds a copy of the frame: 4 MB at 1024×128).
 const QUEUE: usize = 4;
@@ -44,12 +45,8 @@ impl Recorder {
     pub fn start(path: &Path, options: &ViewOptions, info: &RunInfo) -> Result<Self, ViewError> {
         let ctx = Context::new();
         let handle = crate::record::open(&ctx, path, info)?;
-        let mut streams = Streams::new(
-            ctx,
-            &options.world_frame,
-            &options.sensor_frame,
-            info.reference.clone(),
-        )?;
+        let frames = (options.world_frame.as_str(), options.sensor_frame.as_str());
+        let mut streams = Streams::new(ctx, frames, info.reference.clone(), true)?;
         streams.announce_images(&info.images);
         let (tx, rx) = sync_channel(QUEUE);
         let owned_path = path.to_path_buf();

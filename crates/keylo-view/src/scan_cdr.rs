@@ -169,6 +169,48 @@ pub fn scan(frame: &LidarFrame, frame_id: &str) -> Vec<u8> {
     }
 }
 
+/// The frame's points for watching: every valid pixel (or scan point) as `x y z intensity`
+/// (float32), unorganised, stamped at the frame's start: half the bytes of [`scan`] or less, and
+/// what a viewer draws.
+pub fn points(frame: &LidarFrame, frame_id: &str) -> Vec<u8> {
+    let stamp = crate::convert::nanos(frame.timestamp);
+    let fields: [Field; 4] = [
+        ("x", FLOAT32, 4),
+        ("y", FLOAT32, 4),
+        ("z", FLOAT32, 4),
+        ("intensity", FLOAT32, 4),
+    ];
+    let put = |data: &mut Vec<u8>, point: [f32; 4]| {
+        for c in point {
+            data.extend_from_slice(&c.to_le_bytes());
+        }
+    };
+    let mut data: Vec<u8> = Vec::new();
+    match &frame.scan {
+        Some(s) => {
+            data.reserve(s.points.len() * 16);
+            for (i, p) in s.points.iter().enumerate() {
+                let v = s.intensity.as_ref().and_then(|t| t.get(i)).copied();
+                put(
+                    &mut data,
+                    [p.x as f32, p.y as f32, p.z as f32, v.unwrap_or(0.0)],
+                );
+            }
+        }
+        None => {
+            data.reserve(frame.valid_count() * 16);
+            for (i, _) in frame.valid.iter().enumerate().filter(|(_, v)| **v) {
+                let p = frame.points.get(i).copied().unwrap_or_default();
+                let v = frame.signal.get(i).copied().unwrap_or(0.0);
+                put(&mut data, [p.x, p.y, p.z, v]);
+            }
+        }
+    }
+    let n = (data.len() / 16) as u32;
+    let copy = |out: &mut [u8]| out.copy_from_slice(&data);
+    message(stamp, frame_id, (1, n), &fields, true, (data.len(), copy))
+}
+
 fn organised(frame: &LidarFrame, frame_id: &str, stamp: u64) -> Vec<u8> {
     let fields: [Field; 8] = [
         ("x", FLOAT32, 4),

@@ -11,7 +11,8 @@ use nalgebra::Point3;
 
 use crate::channels::Channels;
 use crate::convert::{self, nanos, timestamp};
-use crate::{images, reference, scan_cdr, stats, FrameView, ViewError};
+use crate::frame_view::FrameView;
+use crate::{images, reference, scan_cdr, stats, ViewError};
 
 pub struct Streams {
     ctx: Arc<Context>,
@@ -19,6 +20,9 @@ pub struct Streams {
     images: HashMap<String, (Channel<RawImage>, Channel<ImageAnnotations>)>,
     world: String,
     sensor: String,
+    /// The scan as recorded (every pixel and channel, for `keylo run --data`) rather than as
+    /// watched (the valid points, `x y z intensity`).
+    full_scan: bool,
     trajectory: Vec<(f64, Pose)>,
     reference: Option<Trajectory>,
     aligned: Option<Vec<(f64, Pose)>>,
@@ -27,9 +31,9 @@ pub struct Streams {
 impl Streams {
     pub fn new(
         ctx: Arc<Context>,
-        world: &str,
-        sensor: &str,
+        (world, sensor): (&str, &str),
         reference: Option<Trajectory>,
+        full_scan: bool,
     ) -> Result<Self, ViewError> {
         Ok(Self {
             ch: Channels::new(&ctx)?,
@@ -37,6 +41,7 @@ impl Streams {
             images: HashMap::new(),
             world: world.into(),
             sensor: sensor.into(),
+            full_scan,
             trajectory: Vec::new(),
             reference,
             aligned: None,
@@ -89,7 +94,10 @@ impl Streams {
     pub fn heavy(&mut self, v: &FrameView) {
         let stamp = v.result.stamp;
         if self.ch.scan.has_sinks() {
-            let bytes = scan_cdr::scan(v.frame, &self.sensor);
+            let bytes = match self.full_scan {
+                true => scan_cdr::scan(v.frame, &self.sensor),
+                false => scan_cdr::points(v.frame, &self.sensor),
+            };
             let meta = PartialMetadata::with_log_time(nanos(v.frame.timestamp));
             self.ch.scan.log_with_meta(&bytes, meta);
         }

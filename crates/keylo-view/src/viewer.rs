@@ -1,37 +1,14 @@
 //! The viewer: the live view and the recording, each on its own Foxglove context, fed the same
 //! frames.
 
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use keylo_core::{FrameFeatures, FrameResult, LidarFrame, PointCloud};
 use nalgebra::Point3;
 
+use crate::frame_view::{FrameView, RecordSummary};
 use crate::live::Live;
 use crate::recorder::Recorder;
 use crate::{RunInfo, ViewError, ViewOptions};
-
-/// One frame's results, as the viewer takes them.
-pub struct FrameView<'a> {
-    pub frame: &'a LidarFrame,
-    pub result: &'a FrameResult,
-    /// The images, keypoints and descriptors (`None` when the features were not kept).
-    pub features: Option<&'a FrameFeatures>,
-    /// The points the registrar was given (sensor frame).
-    pub cloud: Option<&'a PointCloud>,
-    /// The local map (world frame): give it when [`Viewer::wants_map`] said so.
-    pub map: Option<&'a [Point3<f64>]>,
-    /// Seconds every stage of the frame took.
-    pub seconds: f64,
-}
-
-/// The recording written.
-#[derive(Debug, Clone)]
-pub struct RecordSummary {
-    pub path: PathBuf,
-    pub bytes: u64,
-    pub frames: u64,
-}
 
 /// Streams a run's frames live and/or records them.
 pub struct Viewer {
