@@ -70,19 +70,14 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     let prior = map.points()?;
     let mut localiser = Localiser::new(&prior, initial, settings)?;
     let mut source = keylo::build_source(&config, &registry)?;
-    let mut view = view_out::start(
-        &args.view,
-        view_out::RunDescription {
-            command: std::env::args().collect::<Vec<_>>().join(" "),
-            config_origin: config.origin.clone(),
-            config_toml: keylo::config::render_resolved(&config, &registry),
-            source: source.info().description,
-            images: Vec::new(),
-            reference: source.ground_truth(),
-            world_frame: "map",
-        },
-        quiet,
-    )?;
+    let resolved = keylo::config::render_resolved(&config, &registry);
+    let run = view_out::RunDescription::of(&config, resolved, source.info().description, None);
+    let run = view_out::RunDescription {
+        reference: source.ground_truth(),
+        world_frame: "map",
+        ..run
+    };
+    let mut view = view_out::start(&args.view, run, quiet)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let csv_path = args.out.join("localise.csv");

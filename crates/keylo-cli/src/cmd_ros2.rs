@@ -97,19 +97,9 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     };
     let mut node = Ros2Node::start(ros2, &odometry)?;
     node.set_registrar(&config.registrar.kind);
-    let mut view = view_out::start(
-        &args.view,
-        view_out::RunDescription {
-            command: std::env::args().collect::<Vec<_>>().join(" "),
-            config_origin: config.origin.clone(),
-            config_toml: resolved,
-            source: format!("keylo ros2 ({})", config.source.kind),
-            images: (odometry.image.as_ref()).map_or_else(Vec::new, |b| b.image_names()),
-            reference: None,
-            world_frame: "odom",
-        },
-        quiet,
-    )?;
+    let described = format!("keylo ros2 ({})", config.source.kind);
+    let run = view_out::RunDescription::of(&config, resolved, described, Some(&odometry));
+    let mut view = view_out::start(&args.view, run, quiet)?;
     node.want_features(map.as_ref().is_some_and(NodeMap::wants_features) || view.is_some());
     if let Err(e) = ctrlc::set_handler(|| {
         STOP.store(true, Ordering::SeqCst);

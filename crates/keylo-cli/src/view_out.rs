@@ -22,6 +22,28 @@ pub struct RunDescription {
     pub world_frame: &'static str,
 }
 
+impl RunDescription {
+    /// The run of `config` (its resolved text `resolved`) on `source`, by this process's
+    /// command line, in the world frame `odom`, with the images `odometry` makes; no reference.
+    pub fn of(
+        config: &keylo::config::PipelineConfig,
+        resolved: String,
+        source: String,
+        odometry: Option<&Odometry>,
+    ) -> Self {
+        Self {
+            command: std::env::args().collect::<Vec<_>>().join(" "),
+            config_origin: config.origin.clone(),
+            config_toml: resolved,
+            source,
+            images: (odometry.and_then(|o| o.image.as_ref()))
+                .map_or_else(Vec::new, |b| b.image_names()),
+            reference: None,
+            world_frame: "odom",
+        }
+    }
+}
+
 /// A started viewer and/or recording.
 #[cfg(feature = "view")]
 pub struct Session(keylo_view::Viewer);

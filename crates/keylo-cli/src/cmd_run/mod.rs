@@ -79,19 +79,10 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             t
         })
         .or_else(|| pipeline.source.ground_truth());
-    let mut view = view_out::start(
-        &args.view,
-        view_out::RunDescription {
-            command: std::env::args().collect::<Vec<_>>().join(" "),
-            config_origin: config.origin.clone(),
-            config_toml: resolved,
-            source: info.description.clone(),
-            images: (pipeline.odometry.image.as_ref()).map_or_else(Vec::new, |b| b.image_names()),
-            reference,
-            world_frame: "odom",
-        },
-        quiet,
-    )?;
+    let source = info.description.clone();
+    let run = view_out::RunDescription::of(&config, resolved, source, Some(&pipeline.odometry));
+    let run = view_out::RunDescription { reference, ..run };
+    let mut view = view_out::start(&args.view, run, quiet)?;
     let progress = progress_bar(info.frames, quiet);
     let clock = resources::RunClock::start();
     let mut outcome = RunState::default();
