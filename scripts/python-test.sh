@@ -22,7 +22,7 @@ if [ ! -x "$VENV/bin/python" ]; then
     fi
 fi
 "$VENV/bin/pip" install -q --disable-pip-version-check "maturin>=1.16,<1.17" "numpy>=1.24" "pytest>=7" \
-    opencv-python-headless onnxruntime "mcap>=1.2" "mcap-protobuf-support>=0.5"
+    opencv-python-headless onnxruntime "mcap>=1.2" "mcap-protobuf-support>=0.5" "mcap-ros2-support>=0.5"
 VIRTUAL_ENV="$VENV" PATH="$VENV/bin:$PATH" maturin develop -q --locked -m crates/keylo-py/Cargo.toml 2>&1 \
     | grep -v -i patchelf || true
 cargo build -q --locked -p keylo-cli

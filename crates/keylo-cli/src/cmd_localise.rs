@@ -75,6 +75,7 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     let run = view_out::RunDescription {
         reference: source.ground_truth(),
         world_frame: "map",
+        fixed_map: true,
         ..run
     };
     let mut view = view_out::start(&args.view, run, quiet)?;
@@ -131,9 +132,7 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         )?;
     }
     csv.flush()?;
-    if let Some(v) = view {
-        v.finish_with(&prior)?;
-    }
+    let view_error = view.map(|v| v.finish_with(&prior)).transpose().err();
     let tum = args.out.join("trajectory.tum");
     keylo::io::trajectory::write_tum(&tum, &trajectory)
         .with_context(|| format!("writing {}", tum.display()))?;
@@ -148,6 +147,10 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
             n as f64 / seconds.max(1e-9),
             args.out.display()
         );
+    }
+    if let Some(e) = view_error {
+        eprintln!("error: {e:#} (trajectory.tum and localise.csv are written)");
+        return Ok(ExitCode::FAILURE);
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -227,7 +227,8 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     }
     drop(journal);
     if let Some(e) = view_error {
-        return Err(e.context("the node ran, but its recording is incomplete"));
+        eprintln!("error: {e:#} (the node's own files are written)");
+        return Ok(ExitCode::FAILURE);
     }
     if let Some(e) = write_error {
         return Err(e.context("the node ran, but its files are incomplete"));

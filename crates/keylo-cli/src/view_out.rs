@@ -20,6 +20,8 @@ pub struct RunDescription {
     pub reference: Option<Trajectory>,
     /// The frame of the poses and the map (`odom`; `map` when localising in a saved map).
     pub world_frame: &'static str,
+    /// The map does not change (localising in a saved one): recorded once.
+    pub fixed_map: bool,
 }
 
 impl RunDescription {
@@ -40,6 +42,7 @@ impl RunDescription {
                 .map_or_else(Vec::new, |b| b.image_names()),
             reference: None,
             world_frame: "odom",
+            fixed_map: false,
         }
     }
 }
@@ -53,18 +56,21 @@ pub struct Session(keylo_view::Viewer);
 pub enum Session {}
 
 /// Starts what `args` ask for (`None` when nothing); with `--view-wait`, waits for a viewer.
+/// Every option is checked before anything starts (a bad one leaves an existing FILE alone).
 #[cfg(feature = "view")]
 pub fn start(args: &ViewArgs, run: RunDescription, quiet: bool) -> Result<Option<Session>> {
+    let wait_limit = args.view_wait.map(wait_limit).transpose()?;
+    if args.view_wait.is_some() && args.view.is_none() {
+        tracing::warn!("--view-wait does nothing without --view");
+    }
     if args.view.is_none() && args.record.is_none() {
-        if args.view_wait.is_some() {
-            tracing::warn!("--view-wait does nothing without --view");
-        }
         return Ok(None);
     }
     let mut options = keylo_view::ViewOptions {
         serve: args.view.clone(),
         record: args.record.clone(),
         world_frame: run.world_frame.into(),
+        fixed_map: run.fixed_map,
         ..Default::default()
     };
     if let Some(n) = args.view_map_every {
@@ -93,25 +99,24 @@ pub fn start(args: &ViewArgs, run: RunDescription, quiet: bool) -> Result<Option
                  WebSocket → {url}"
             );
         }
-        if let Some(secs) = args.view_wait {
-            wait(&viewer, secs, &url)?;
+        if let Some(limit) = wait_limit {
+            eprintln!("waiting for a viewer to connect to {url} (Ctrl-C to stop)…");
+            if !viewer.wait_for_client(limit, &|| false) {
+                tracing::warn!("no viewer connected to {url} in time: running without one");
+            }
         }
     }
     Ok(Some(Session(viewer)))
 }
 
+/// `--view-wait`'s limit (`None`: no limit).
 #[cfg(feature = "view")]
-fn wait(viewer: &keylo_view::Viewer, secs: f64, url: &str) -> Result<()> {
-    let limit = match secs {
-        s if s.is_infinite() => None,
-        s if s.is_finite() && s >= 0.0 => Some(std::time::Duration::from_secs_f64(s)),
+fn wait_limit(secs: f64) -> Result<Option<std::time::Duration>> {
+    match secs {
+        s if s.is_infinite() && s > 0.0 => Ok(None),
+        s if s.is_finite() && s >= 0.0 => Ok(Some(std::time::Duration::from_secs_f64(s))),
         s => anyhow::bail!("--view-wait {s}: expected seconds ≥ 0 (or no value: no limit)"),
-    };
-    eprintln!("waiting for a viewer to connect to {url} (Ctrl-C to stop)…");
-    if !viewer.wait_for_client(limit, &|| false) {
-        tracing::warn!("no viewer connected to {url} within {secs} s: running without one");
     }
-    Ok(())
 }
 
 #[cfg(not(feature = "view"))]

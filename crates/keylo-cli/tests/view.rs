@@ -58,8 +58,8 @@ fn run_and_localise_record_their_streams() {
     assert!(o.status.success(), "{}", stderr(&o));
     let (counts, stats) = read(&dir.path().join("loc.mcap"));
     assert_eq!(counts.get("/keylo/pose"), Some(&6), "{counts:?}");
-    // The fixed map with the first frame and after the last.
-    assert_eq!(counts.get("/keylo/map"), Some(&2), "{counts:?}");
+    // The saved map does not change: recorded once, with the first frame.
+    assert_eq!(counts.get("/keylo/map"), Some(&1), "{counts:?}");
     assert!(
         stats
             .iter()
@@ -88,6 +88,37 @@ fn bad_view_and_record_options_are_errors_naming_them() {
         dir.path(),
     );
     expect_failure(&o, 2, "--record nowhere/run.mcap: cannot create it");
+    // A bad option leaves an existing recording as it was.
+    std::fs::write(dir.path().join("kept.mcap"), b"an earlier recording").unwrap();
+    for bad in ["--view nonsense", "--view-wait -1 --view 127.0.0.1:0"] {
+        let o = keylo_line(
+            &format!("run --data data --out a --record kept.mcap {bad}"),
+            dir.path(),
+        );
+        assert_eq!(o.status.code(), Some(2), "{bad}: {}", stderr(&o));
+        let kept = std::fs::read(dir.path().join("kept.mcap")).unwrap();
+        assert_eq!(kept, b"an earlier recording", "{bad}");
+    }
+}
+
+#[test]
+fn a_run_that_stops_at_a_bad_frame_leaves_a_complete_recording() {
+    let dir = tempfile::tempdir().unwrap();
+    small_sim(&dir.path().join("data"), 4);
+    // Frame 2's file cut short: the run stops there (exit 3) keeping frames 0 and 1.
+    let frames = dir.path().join("data/frames");
+    let mut files: Vec<_> = std::fs::read_dir(&frames)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    let bytes = std::fs::read(&files[2]).unwrap();
+    std::fs::write(&files[2], &bytes[..bytes.len() / 2]).unwrap();
+    let o = keylo_line("run --data data --out a --record run.mcap", dir.path());
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let (counts, stats) = read(&dir.path().join("run.mcap"));
+    assert_eq!(counts.get("/keylo/pose"), Some(&2), "{counts:?}");
+    assert_eq!(stats.len(), 2);
 }
 
 #[test]
@@ -101,5 +132,5 @@ fn a_viewer_that_never_comes_does_not_stop_the_run() {
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(e.contains("live view at ws://127.0.0.1:"), "{e}");
-    assert!(e.contains("no viewer connected"), "{e}");
+    assert!(e.contains("no viewer connected to ws://127.0.0.1:"), "{e}");
 }

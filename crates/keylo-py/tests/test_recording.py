@@ -9,6 +9,7 @@ from conftest import ROOT, run_cli
 
 mcap_reader = pytest.importorskip("mcap.reader")
 protobuf_decoder = pytest.importorskip("mcap_protobuf.decoder")
+ros2_decoder = pytest.importorskip("mcap_ros2.decoder")
 
 FRAMES = 6
 AKAZE = ROOT / "configs" / "paper" / "indoor-akaze-kiss-icp.toml"
@@ -65,6 +66,24 @@ def test_channels_counts_pose_config(recorded):
     assert attachments["config.toml"] == (recorded / "out" / "config.toml").read_bytes()
     assert metadata["keylo"]["config"].endswith("indoor-akaze-kiss-icp.toml")
     assert "--record" in metadata["keylo"]["command"]
+
+
+def test_scans_are_pointcloud2_as_ros2_decodes_them(recorded):
+    # PyPI's mcap-ros2-support: an independent CDR decoder, from the schema in the file.
+    with open(recorded / "run.mcap", "rb") as f:
+        reader = mcap_reader.make_reader(f, decoder_factories=[ros2_decoder.DecoderFactory()])
+        scans = [(m.log_time, d) for _, _, m, d in reader.iter_decoded_messages(topics=["/keylo/scan"])]
+    assert len(scans) == FRAMES
+    log_time, scan = scans[0]
+    assert scan.header.frame_id == "lidar"
+    assert scan.header.stamp.sec * 10**9 + scan.header.stamp.nanosec == log_time
+    assert (scan.height, scan.width) == (128, 1024)
+    names = [(p.name, p.offset, p.datatype, p.count) for p in scan.fields]
+    assert names == [("x", 0, 7, 1), ("y", 4, 7, 1), ("z", 8, 7, 1), ("intensity", 12, 7, 1),
+                     ("reflectivity", 16, 7, 1), ("near_ir", 20, 7, 1), ("range", 24, 7, 1),
+                     ("t", 28, 6, 1)]
+    assert (scan.point_step, scan.row_step, scan.is_bigendian, scan.is_dense) == (32, 32 * 1024, False, False)
+    assert len(scan.data) == 32 * 1024 * 128
 
 
 def test_the_recording_is_data_keylo_reads(keylo_bin, recorded):

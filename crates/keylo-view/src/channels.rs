@@ -26,9 +26,9 @@ impl Channels {
                 .message_encoding(encoding)
                 .schema(schema)
                 .build_raw()
-                .map_err(|e| ViewError::Serve {
-                    address: topic.to_string(),
-                    message: format!("cannot make the channel: {e}"),
+                .map_err(|e| ViewError::Channel {
+                    topic: topic.to_string(),
+                    message: e.to_string(),
                 })
         };
         Ok(Self {

@@ -17,6 +17,9 @@ use crate::{ViewError, ViewOptions};
 /// default 1024 messages.
 const BACKLOG: usize = 128;
 
+/// How long the end of a run waits for the server to close its connections.
+const STOP_WAIT: Duration = Duration::from_secs(2);
+
 pub struct Live {
     streams: Streams,
     server: WebSocketServerHandle,
@@ -65,10 +68,12 @@ impl Live {
         self.streams.any_subscribed()
     }
 
-    /// Whether this frame may send the large messages.
+    /// Whether this frame may send the large messages: a fifth of the interval early still
+    /// counts, so frames that come at `max_hz` with some jitter (a sensor played at its rate)
+    /// all pass.
     fn due(&self) -> bool {
         match (self.interval, self.last_heavy) {
-            (Some(i), Some(t)) => t.elapsed() >= i,
+            (Some(i), Some(t)) => t.elapsed() >= i.mul_f64(0.8),
             _ => true,
         }
     }
@@ -79,8 +84,8 @@ impl Live {
     }
 
     pub fn frame(&mut self, v: &FrameView) {
-        let paths = self.due() && self.frames_since_map >= self.map_every;
         let due = self.due();
+        let paths = due && self.frames_since_map >= self.map_every;
         self.streams.light(v);
         if due {
             self.streams.heavy(v);
@@ -88,8 +93,14 @@ impl Live {
         }
         self.frames_since_map += 1;
         if paths {
-            if let Some(map) = v.map {
-                self.streams.map(v.result.stamp, map);
+            match v.map {
+                Some(map) => self.streams.map(v.result.stamp, map),
+                // The frame became due after the caller asked: the map goes with the next one.
+                None if self.streams.takes_map() => {
+                    self.streams.paths();
+                    return;
+                }
+                None => {}
             }
             self.streams.paths();
             self.frames_since_map = 0;
@@ -105,7 +116,17 @@ impl Live {
         if self.server.client_count() > 0 {
             std::thread::sleep(Duration::from_millis(300));
         }
-        self.server.stop().wait_blocking();
+        // A client that stopped reading never lets its close be written: wait for a clean
+        // stop at most STOP_WAIT, then leave the server's tasks to end with the process.
+        let shutdown = self.server.stop();
+        let (done, waited) = std::sync::mpsc::channel();
+        let waiter = std::thread::spawn(move || {
+            shutdown.wait_blocking();
+            let _ = done.send(());
+        });
+        if waited.recv_timeout(STOP_WAIT).is_ok() {
+            let _ = waiter.join();
+        }
     }
 }
 

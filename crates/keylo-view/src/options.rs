@@ -16,6 +16,10 @@ pub struct ViewOptions {
     /// times a second of wall time; 0: every frame. Poses and figures go every frame, and the
     /// recording takes everything.
     pub max_hz: f64,
+    /// The map does not change (a saved map to localise in): the recording holds it once, with
+    /// the first frame; the live view still sends it every `map_every` frames, for viewers that
+    /// connect later.
+    pub fixed_map: bool,
     /// The world frame's name.
     pub world_frame: String,
     /// The sensor frame's name.
@@ -29,6 +33,7 @@ impl Default for ViewOptions {
             record: None,
             map_every: 10,
             max_hz: 10.0,
+            fixed_map: false,
             world_frame: crate::topics::WORLD_FRAME.into(),
             sensor_frame: crate::topics::SENSOR_FRAME.into(),
         }

@@ -34,9 +34,10 @@ enum Job {
 
 pub struct Recorder {
     tx: Option<SyncSender<Job>>,
-    thread: JoinHandle<Result<RecordSummary, ViewError>>,
+    thread: Option<JoinHandle<Result<RecordSummary, ViewError>>>,
     path: PathBuf,
-    map_every: u64,
+    /// Record the map every this many frames; `None`: a fixed map, recorded with the first.
+    map_every: Option<u64>,
     frames: u64,
 }
 
@@ -50,7 +51,7 @@ impl Recorder {
         streams.announce_images(&info.images);
         let (tx, rx) = sync_channel(QUEUE);
         let owned_path = path.to_path_buf();
-        let map_every = options.map_every.max(1);
+        let map_every = (!options.fixed_map).then_some(options.map_every.max(1));
         let thread = std::thread::Builder::new()
             .name("keylo-record".into())
             .spawn(move || {
@@ -70,16 +71,20 @@ impl Recorder {
             })?;
         Ok(Self {
             tx: Some(tx),
-            thread,
+            thread: Some(thread),
             path: path.to_path_buf(),
             map_every,
             frames: 0,
         })
     }
 
-    /// Whether the next frame's map is recorded (every `map_every` frames from the first).
+    /// Whether the next frame's map is recorded (every `map_every` frames from the first; a
+    /// fixed map with the first frame only).
     pub fn wants_map(&self) -> bool {
-        self.frames.is_multiple_of(self.map_every)
+        match self.map_every {
+            Some(n) => self.frames.is_multiple_of(n),
+            None => self.frames == 0,
+        }
     }
 
     /// Hands a copy of the frame's results to the thread (waiting while it is `QUEUE` behind).
@@ -106,11 +111,20 @@ impl Recorder {
         }
     }
 
-    /// Records the last map and paths and closes the file.
+    /// Records the last map (not for a fixed map) and paths and closes the file.
     pub fn finish(mut self, map: Option<&[Point3<f64>]>) -> Result<RecordSummary, ViewError> {
+        let map = map.filter(|_| self.map_every.is_some());
         self.send(Job::Finish(map.map(<[_]>::to_vec)));
+        self.close()
+    }
+
+    fn close(&mut self) -> Result<RecordSummary, ViewError> {
         self.tx = None;
-        self.thread.join().unwrap_or_else(|_| {
+        let thread = self.thread.take().ok_or_else(|| ViewError::Record {
+            path: self.path.clone(),
+            message: "already closed".into(),
+        })?;
+        thread.join().unwrap_or_else(|_| {
             Err(ViewError::Record {
                 path: self.path.clone(),
                 message: "its thread panicked".into(),
@@ -119,9 +133,22 @@ impl Recorder {
     }
 }
 
+/// A run that ends early (an error before `finish`) still leaves a complete file: the frames
+/// handed over, the paths, the summary.
+impl Drop for Recorder {
+    fn drop(&mut self) {
+        if self.thread.is_some() {
+            self.send(Job::Finish(None));
+            if let Err(e) = self.close() {
+                tracing::error!("{e}");
+            }
+        }
+    }
+}
+
 /// The thread's loop: every frame's messages, the map and paths every `map_every` frames, the
 /// last map and paths at the end. The frames written.
-fn write(streams: &mut Streams, rx: &Receiver<Job>, map_every: u64) -> u64 {
+fn write(streams: &mut Streams, rx: &Receiver<Job>, map_every: Option<u64>) -> u64 {
     let mut frames = 0u64;
     while let Ok(job) = rx.recv() {
         match job {
@@ -136,7 +163,7 @@ fn write(streams: &mut Streams, rx: &Receiver<Job>, map_every: u64) -> u64 {
                 };
                 streams.light(&v);
                 streams.heavy(&v);
-                if frames.is_multiple_of(map_every) {
+                if frames.is_multiple_of(map_every.unwrap_or(u64::MAX)) {
                     if let Some(map) = &o.map {
                         streams.map(o.result.stamp, map);
                     }

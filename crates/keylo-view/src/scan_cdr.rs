@@ -152,13 +152,14 @@ pub fn scan(frame: &LidarFrame, frame_id: &str) -> Vec<u8> {
                     push_f32(&mut data, v as f32);
                 }
                 if let Some(v) = &s.intensity {
-                    push_f32(&mut data, v[i]);
+                    push_f32(&mut data, v.get(i).copied().unwrap_or(0.0));
                 }
                 if let Some(t) = &s.times {
-                    data.extend_from_slice(&offset_ns(t[i], 0.0).to_le_bytes());
+                    let t = t.get(i).copied().unwrap_or(0.0);
+                    data.extend_from_slice(&offset_ns(t, 0.0).to_le_bytes());
                 }
                 if let Some(r) = &s.ring {
-                    data.extend_from_slice(&r[i].to_le_bytes());
+                    data.extend_from_slice(&r.get(i).copied().unwrap_or(0).to_le_bytes());
                 }
             }
             let n = s.points.len() as u32;
@@ -245,4 +246,123 @@ fn organised(frame: &LidarFrame, frame_id: &str, stamp: u64) -> Vec<u8> {
     };
     let shape = (frame.rows as u32, frame.cols as u32);
     message(stamp, frame_id, shape, &fields, false, (n * 32, fill))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use keylo_core::BeamGeometry;
+    use nalgebra::Point3;
+
+    use super::*;
+
+    /// Reads what [`message`] wrote (XCDR1 little endian, alignment after the 4-byte header).
+    struct Reader<'a>(&'a [u8], usize);
+
+    impl Reader<'_> {
+        fn u8(&mut self) -> u8 {
+            self.1 += 1;
+            self.0[self.1 - 1]
+        }
+        fn u32(&mut self) -> u32 {
+            while !(self.1 - 4).is_multiple_of(4) {
+                assert_eq!(self.0[self.1], 0, "padding at {}", self.1);
+                self.1 += 1;
+            }
+            self.1 += 4;
+            u32::from_le_bytes(self.0[self.1 - 4..self.1].try_into().unwrap())
+        }
+        fn string(&mut self) -> String {
+            let n = self.u32() as usize;
+            self.1 += n;
+            assert_eq!(self.0[self.1 - 1], 0, "NUL-terminated");
+            String::from_utf8(self.0[self.1 - n..self.1 - 1].to_vec()).unwrap()
+        }
+    }
+
+    fn frame() -> LidarFrame {
+        let beams = Arc::new(BeamGeometry {
+            model: "test".into(),
+            altitude_deg: vec![1.0, -1.0],
+            azimuth_deg: vec![0.0, 0.0],
+            origin_to_beam_mm: 0.0,
+            columns_per_frame: 3,
+            frame_rate_hz: 10.0,
+            column_lag_by_row: Vec::new(),
+        });
+        let mut f = LidarFrame::empty(0, 12.5, 2, 3, beams);
+        f.column_times = vec![12.5, 12.53, 12.56];
+        f.valid[4] = true;
+        f.points[4] = Point3::new(1.0, -2.0, 0.5);
+        f.range[4] = 2.3;
+        f.signal[4] = 40.0;
+        f
+    }
+
+    #[test]
+    fn an_organised_scan_is_a_pointcloud2_in_xcdr1() {
+        let bytes = scan(&frame(), "lidar");
+        assert_eq!(&bytes[..4], &[0, 1, 0, 0]);
+        let mut r = Reader(&bytes, 4);
+        assert_eq!((r.u32(), r.u32()), (12, 500_000_000));
+        assert_eq!(r.string(), "lidar");
+        assert_eq!((r.u32(), r.u32()), (2, 3));
+        let fields: Vec<(String, u32, u8, u32)> = (0..r.u32())
+            .map(|_| (r.string(), r.u32(), r.u8(), r.u32()))
+            .collect();
+        let names: Vec<&str> = fields.iter().map(|f| f.0.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "x",
+                "y",
+                "z",
+                "intensity",
+                "reflectivity",
+                "near_ir",
+                "range",
+                "t"
+            ]
+        );
+        assert!(fields
+            .iter()
+            .enumerate()
+            .all(|(k, f)| f.1 == 4 * k as u32 && f.3 == 1));
+        assert_eq!((fields[0].2, fields[7].2), (FLOAT32, UINT32));
+        assert_eq!(r.u8(), 0, "little endian");
+        assert_eq!((r.u32(), r.u32()), (32, 96), "point_step, row_step");
+        let len = r.u32() as usize;
+        assert_eq!(len, 6 * 32);
+        let data = &bytes[r.1..r.1 + len];
+        let f32_at = |o: usize| f32::from_le_bytes(data[o..o + 4].try_into().unwrap());
+        // Pixel 4 (row 1, column 1): its point, signal and range; its column's time.
+        let p = 4 * 32;
+        assert_eq!([f32_at(p), f32_at(p + 4), f32_at(p + 8)], [1.0, -2.0, 0.5]);
+        assert_eq!((f32_at(p + 12), f32_at(p + 24)), (40.0, 2.3));
+        let t = u32::from_le_bytes(data[p + 28..p + 32].try_into().unwrap());
+        assert_eq!(t, 30_000_000);
+        // No return: the origin, as ouster-ros writes it.
+        assert_eq!([f32_at(0), f32_at(4), f32_at(8), f32_at(24)], [0.0; 4]);
+        r.1 += len;
+        assert_eq!(r.u8(), 0, "is_dense");
+        assert_eq!(r.1, bytes.len());
+    }
+
+    #[test]
+    fn watched_points_are_the_valid_ones() {
+        let bytes = points(&frame(), "lidar");
+        let mut r = Reader(&bytes, 4);
+        r.u32();
+        r.u32();
+        r.string();
+        assert_eq!((r.u32(), r.u32()), (1, 1), "one valid pixel");
+        let n = r.u32();
+        let names: Vec<String> = (0..n)
+            .map(|_| (r.string(), r.u32(), r.u8(), r.u32()).0)
+            .collect();
+        assert_eq!(names, ["x", "y", "z", "intensity"]);
+        r.u8();
+        assert_eq!((r.u32(), r.u32(), r.u32()), (16, 16, 16));
+    }
 }

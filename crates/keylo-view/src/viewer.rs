@@ -20,16 +20,17 @@ impl Viewer {
     /// Opens the recording (writing the run's metadata and config into it) and starts the
     /// server, as `options` ask.
     pub fn start(options: &ViewOptions, info: &RunInfo) -> Result<Self, ViewError> {
-        let recorder = match &options.record {
-            Some(path) => Some(Recorder::start(path, options, info)?),
-            None => None,
-        };
+        // The server first: an address that cannot be served must not have emptied FILE.
         let live = match &options.serve {
             Some(address) => {
                 let mut live = Live::start(address, options, info.reference.clone())?;
                 live.streams().announce_images(&info.images);
                 Some(live)
             }
+            None => None,
+        };
+        let recorder = match &options.record {
+            Some(path) => Some(Recorder::start(path, options, info)?),
             None => None,
         };
         Ok(Self { live, recorder })
@@ -83,15 +84,16 @@ impl Viewer {
         }
     }
 
-    /// Ends the run: sends the last map (`final_map`, when given) and paths, stops the server
-    /// and closes the recording.
+    /// Ends the run: sends the last map (`final_map`, when given) and paths, closes the
+    /// recording and stops the server.
     pub fn finish(
         self,
         final_map: Option<&[Point3<f64>]>,
     ) -> Result<Option<RecordSummary>, ViewError> {
+        let recorded = self.recorder.map(|r| r.finish(final_map)).transpose();
         if let Some(l) = self.live {
             l.finish(final_map);
         }
-        self.recorder.map(|r| r.finish(final_map)).transpose()
+        recorded
     }
 }

@@ -179,12 +179,13 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         println!("keylo run — {} → {}", summary.source, out.display());
         print!("{}", report::table(&summary));
     }
-    if let Some(e) = view_error {
+    // A recording that could not be closed is said first and exits 1, unless the run itself
+    // has a more telling status.
+    if let Some(e) = &view_error {
         eprintln!(
             "error: {e:#}\n       the run's results are written to {}",
             out.display()
         );
-        return Ok(ExitCode::FAILURE);
     }
     if let Some(f) = &summary.failed {
         eprintln!(
@@ -213,6 +214,9 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
             out.display()
         );
         return Ok(ExitCode::from(EXIT_DEGENERATE));
+    }
+    if view_error.is_some() {
+        return Ok(ExitCode::FAILURE);
     }
     Ok(ExitCode::SUCCESS)
 }
