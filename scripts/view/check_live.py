@@ -37,6 +37,18 @@ if got["topics"].get("/tf") != 2 * frames:
 for topic in ["/keylo/map", "/keylo/trajectory", "/keylo/reference"]:
     if not got["topics"].get(topic):
         fail(f"{topic}: nothing received")
+# The last trajectory message (after the last frame) holds every pose, the last one the run's.
+path = got.get("trajectory", {})
+last = path.get("last", {})
+if path.get("poses") != frames or path.get("frame_id") != "odom" or \
+        any(abs(a - b) > 1e-6 for a, b in zip([last.get(k, 0) for k in "xyz"], plain[-1][1:4])):
+    fail(f"the last trajectory {path} is not trajectory.tum's {frames} poses ending at {plain[-1][1:4]}")
+# The reference (the simulator's ground truth) starts where the estimate starts.
+ref = got.get("reference", {})
+if ref.get("frame_id") != "odom" or not ref.get("poses", 0) >= frames:
+    fail(f"the reference {ref}")
+if got.get("map", {}).get("points", 0) <= 0 or got["map"].get("frame_id") != "odom":
+    fail(f"the map {got.get('map')}")
 expected_schemas = {
     "/keylo/scan": "sensor_msgs/msg/PointCloud2 [cdr]",
     "/keylo/pose": "foxglove.PoseInFrame [protobuf]",

@@ -53,8 +53,17 @@ client.on("message", ({ subscriptionId, timestamp, data }) => {
     const m = type.toObject(type.decode(bytes), { defaults: true, longs: String });
     // google.protobuf.Timestamp: seconds, nanos.
     const ns = BigInt(m.timestamp.seconds) * 1000000000n + BigInt(m.timestamp.nanos);
-    result.poses.push({ stamp_ns: ns.toString(), log_time_ns: timestamp.toString(), frame_id: m.frameId,
+    result.poses.push({ stamp_ns: ns.toString(), log_time_ns: timestamp.toString(), frame_id: m.frameId ?? m.frame_id,
       position: m.pose.position, orientation: m.pose.orientation });
+  } else if (ch.topic === "/keylo/trajectory" || ch.topic === "/keylo/reference") {
+    const type = decoders.get(ch.id);
+    const m = type.toObject(type.decode(bytes), { defaults: true });
+    const last = m.poses[m.poses.length - 1];
+    result[ch.topic.slice(7)] = { poses: m.poses.length, frame_id: m.frameId ?? m.frame_id, last: last.position };
+  } else if (ch.topic === "/keylo/map") {
+    const m = decoders.get(ch.id).decode(bytes);
+    const stride = m.pointStride ?? m.point_stride;
+    result.map = { frame_id: m.frameId ?? m.frame_id, points: m.data.length / stride };
   } else if (ch.topic.startsWith("/keylo/image/") && !ch.topic.endsWith("/keypoints")) {
     const m = decoders.get(ch.id).decode(bytes);
     result.images[ch.topic] = { width: m.width, height: m.height, encoding: m.encoding, bytes: m.data.length };

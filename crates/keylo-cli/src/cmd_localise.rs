@@ -5,6 +5,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{anyhow, Context, Result};
 use clap::Args;
@@ -40,6 +41,9 @@ pub struct LocaliseArgs {
     #[command(flatten)]
     pub view: crate::arg_groups::ViewArgs,
 }
+
+/// Set by Ctrl-C or SIGTERM.
+static STOP: AtomicBool = AtomicBool::new(false);
 
 pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     let map = Map::open(&args.map)?;
@@ -89,7 +93,18 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     writeln!(csv, "frame,stamp,fitness,tracking,iterations,points,ms")?;
     let mut trajectory = Trajectory::default();
     let (mut lost, mut seconds) = (0usize, 0.0);
+    // Ctrl-C or SIGTERM: stop after the current frame, write what is done, close the
+    // recording.
+    if let Err(e) = ctrlc::set_handler(|| {
+        STOP.store(true, Ordering::SeqCst);
+        keylo::io::ouster::stop_live_sources();
+    }) {
+        tracing::warn!("Ctrl-C will not save partial results: {e}");
+    }
     while let Some(frame) = source.next_frame() {
+        if STOP.load(Ordering::SeqCst) {
+            break;
+        }
         let frame = frame?;
         let t = std::time::Instant::now();
         let l = localiser.localise(&frame);
@@ -151,6 +166,13 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     if let Some(e) = view_error {
         eprintln!("error: {e:#} (trajectory.tum and localise.csv are written)");
         return Ok(ExitCode::FAILURE);
+    }
+    if STOP.load(Ordering::SeqCst) {
+        eprintln!(
+            "interrupted: the {n} frames done are written to {}",
+            args.out.display()
+        );
+        return Ok(ExitCode::from(crate::EXIT_INTERRUPTED));
     }
     Ok(ExitCode::SUCCESS)
 }
