@@ -2,28 +2,28 @@
 
 use keylo_core::{Pose, Trajectory};
 
-/// At most this many reference poses are sent (evenly picked): a long reference would make
-/// every trajectory message large.
+/// At most this many poses (and the last) go in one path message, evenly picked: a long
+/// trajectory would make every message large.
 pub const MAX_POSES: usize = 5000;
 
 /// The reference, moved so that its pose at `stamp` (the nearest one) is `estimate` — both
-/// start together, as evo's origin alignment does — and thinned to [`MAX_POSES`]. `None` when
-/// the reference is empty.
+/// start together, as evo's origin alignment does. Every pose is kept; [`thinned`] picks
+/// those sent. `None` when the reference is empty.
 pub fn aligned(reference: &Trajectory, stamp: f64, estimate: &Pose) -> Option<Vec<(f64, Pose)>> {
     let (_, at) = reference
         .iter()
         .min_by(|a, b| (a.0 - stamp).abs().total_cmp(&(b.0 - stamp).abs()))?;
     let shift = estimate * at.inverse();
-    let n = reference.len();
+    Some(reference.iter().map(|(t, p)| (t, shift * p)).collect())
+}
+
+/// At most [`MAX_POSES`] of `poses`, evenly picked, and always the last one.
+pub fn thinned(poses: &[(f64, Pose)]) -> impl Iterator<Item = &Pose> {
+    let n = poses.len();
     let step = n.div_ceil(MAX_POSES).max(1);
-    Some(
-        reference
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| i % step == 0 || *i + 1 == n)
-            .map(|(_, (t, p))| (t, shift * p))
-            .collect(),
-    )
+    (poses.iter().enumerate())
+        .filter(move |(i, _)| i % step == 0 || *i + 1 == n)
+        .map(|(_, (_, p))| p)
 }
 
 #[cfg(test)]
@@ -42,11 +42,35 @@ mod tests {
             r.push(i as f64 * 0.1, p);
         }
         let a = aligned(&r, 0.1, &Pose::identity()).unwrap();
-        assert!(a.len() <= MAX_POSES + 1);
+        assert_eq!(a.len(), 20_000);
         assert_eq!(a.last().unwrap().0, 1999.9);
+        assert!(a[1].1.translation.vector.norm() < 1e-9);
         // Pose 1 (stamp 0.1) is the identity; pose 0 one metre behind it along its heading.
         let back = a[0].1.translation.vector;
         assert!((back.norm() - 1.0).abs() < 1e-9, "{back}");
         assert!(aligned(&Trajectory::default(), 0.0, &Pose::identity()).is_none());
+    }
+
+    #[test]
+    fn paths_are_thinned_once_to_the_limit_and_keep_their_last_pose() {
+        let poses = |n: usize| -> Vec<(f64, Pose)> {
+            (0..n)
+                .map(|i| (i as f64, Isometry3::translation(i as f64, 0.0, 0.0)))
+                .collect()
+        };
+        for (n, sent) in [
+            (0, 0),
+            (10, 10),
+            (MAX_POSES, MAX_POSES),
+            (MAX_POSES + 1, 2501),
+            (20_000, MAX_POSES + 1),
+        ] {
+            let p = poses(n);
+            let t: Vec<&Pose> = thinned(&p).collect();
+            assert_eq!(t.len(), sent, "{n} poses");
+            if n > 0 {
+                assert_eq!(t.last().unwrap().translation.x, (n - 1) as f64);
+            }
+        }
     }
 }

@@ -150,14 +150,10 @@ impl Streams {
         };
         let send = |ch: &Channel<PosesInFrame>, poses: &[(f64, Pose)]| {
             if ch.has_sinks() {
-                let step = poses.len().div_ceil(reference::MAX_POSES).max(1);
                 let msg = PosesInFrame {
                     timestamp: Some(timestamp(stamp)),
                     frame_id: self.world.clone(),
-                    poses: (poses.iter().enumerate())
-                        .filter(|(i, _)| i % step == 0 || *i + 1 == poses.len())
-                        .map(|(_, (_, p))| convert::pose(p))
-                        .collect(),
+                    poses: reference::thinned(poses).map(convert::pose).collect(),
                 };
                 ch.log_with_time(&msg, nanos(stamp));
             }
