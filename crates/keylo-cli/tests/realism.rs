@@ -98,7 +98,7 @@ fn realism_bad_input_is_named() {
     let tmp = tempfile::tempdir().unwrap();
     let real = real_images();
     let real = real.to_str().unwrap();
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 6] = [
         (&["--real", "no-such-folder"], "--real no-such-folder"),
         (
             &["--real", real, "--channels", "colour"],
@@ -107,6 +107,7 @@ fn realism_bad_input_is_named() {
         (&["--real", real, "--frames", "1"], "--frames 1"),
         (&["--real", real, "--seeds", "0"], "--seeds 0"),
         (&["--real", real, "--jobs", "0"], "--jobs 0"),
+        (&["--real", real, "--moving-lap", "1"], "--moving-lap 1"),
     ];
     for (extra, needle) in cases {
         let mut args = vec!["sim", "realism", "--out", "o", "--combos", "ORB_ORB"];
@@ -153,7 +154,9 @@ fn still_and_moving_are_reported_side_by_side() {
         "still and moving",
         "**Still**: real images 0–1",
         "**Moving**: real images 0–1",
-        "speed_scale = sway_scale = ",
+        "`speed_scale = ",
+        "`sway_scale = ",
+        "change beyond it of ",
         "| keypoint count inside the real interquartile range | ",
         "| ORB_ORB | keypoints | ",
         "| ORB_ORB | match_score | ",

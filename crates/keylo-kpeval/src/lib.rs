@@ -20,6 +20,7 @@ mod combos;
 mod error;
 mod frame_eval;
 pub mod items;
+pub mod motion;
 mod params;
 pub mod pictures;
 mod plane;

@@ -2,11 +2,7 @@
 //! pixels per grey level and per gradient magnitude over each set (images as the detectors
 //! see them, resized), and distances between two sets' histograms.
 
-use keylo_core::{Channel, Image};
-use keylo_features::cv::to_mat;
-use keylo_features::FeaturesError;
-use opencv::core::{Mat, CV_32F};
-use opencv::prelude::*;
+use keylo_core::Channel;
 use serde::Serialize;
 
 use crate::{ImageSpec, KpEvalError, Plane};
@@ -110,38 +106,6 @@ impl Histograms {
     pub fn mean_gradient(&self) -> f64 {
         weighted_sum(&self.gradient, |i| (i as f64 + 0.5) * GRADIENT_BIN_WIDTH)
     }
-}
-
-/// The horizontal shift between each two consecutive images of a sequence (pixels of the
-/// resized images, by phase correlation, absolute): how fast the view turns, which the match
-/// metrics depend on.
-pub fn shifts(planes: &[Plane], image: &ImageSpec) -> Result<Vec<f64>, KpEvalError> {
-    let resized = |p: &Plane| -> Result<Mat, KpEvalError> {
-        let img: Image = p.image(
-            image.width,
-            image.height,
-            image.interpolation,
-            Channel::Signal,
-        )?;
-        let mut f = Mat::default();
-        to_mat(&img)?
-            .convert_to(&mut f, CV_32F, 1.0, 0.0)
-            .map_err(|e| FeaturesError::opencv("convert_to", e))?;
-        Ok(f)
-    };
-    let mut shifts = Vec::new();
-    let mut previous: Option<Mat> = None;
-    for p in planes {
-        let current = resized(p)?;
-        if let Some(prev) = &previous {
-            let s =
-                opencv::imgproc::phase_correlate(prev, &current, &opencv::core::no_array(), None)
-                    .map_err(|e| FeaturesError::opencv("phase_correlate", e))?;
-            shifts.push(s.x.abs());
-        }
-        previous = Some(current);
-    }
-    Ok(shifts)
 }
 
 /// How far apart two histograms of the same bins are.

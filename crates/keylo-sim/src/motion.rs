@@ -106,6 +106,8 @@ pub struct Motion {
     speed: f64,
     height: f64,
     sway: Sway,
+    /// Arc length at t = 0, metres.
+    start: f64,
 }
 
 impl Motion {
@@ -127,7 +129,13 @@ impl Motion {
             speed,
             height,
             sway,
+            start: 0.0,
         }
+    }
+
+    /// Starts the motion `share` of a lap (0 … 1) further along its curve.
+    pub fn start_at(&mut self, share: f64) {
+        self.start = share * self.lap_length();
     }
 
     /// The same motion with every sway amplitude times `k` (0: no sway).
@@ -184,7 +192,7 @@ impl Motion {
 
     /// The sensor pose (sensor → world) at time `t`, seconds.
     pub fn pose_at(&self, t: f64) -> Pose {
-        let s = self.speed * t;
+        let s = self.start + self.speed * t;
         let p = self.position_at_distance(s);
         let w = TAU * self.sway.freq_hz * t + self.sway.phase;
         let yaw = self.heading_at_distance(s) + self.sway.yaw_amp * (0.37 * w).sin();
@@ -240,6 +248,32 @@ mod tests {
                 assert!((d - 0.2).abs() < 2e-3, "{c:?} at {s0}: {d}");
             }
         }
+    }
+
+    #[test]
+    fn a_later_start_is_the_same_walk_further_along() {
+        let c = Curve::Ellipse {
+            center: [0.0, 0.0],
+            a: 4.0,
+            b: 2.0,
+        };
+        let usual = Motion::new(c, 2.0, 1.5, sway());
+        let mut later = usual.clone();
+        later.start_at(0.25);
+        // A quarter lap of an ellipse from (a, 0) counter-clockwise ends at (0, b).
+        let p = later.pose_at(0.0).translation.vector;
+        assert!(p.x.abs() < 1e-3 && (p.y - 2.0).abs() < 1e-3, "{p}");
+        let ahead = 0.25 * usual.lap_length() / 2.0;
+        for t in [0.0, 0.7, 3.1] {
+            let (a, b) = (later.pose_at(t), usual.pose_at(t + ahead));
+            // The sway runs on time, not on the way walked: compare the planar positions.
+            let d = (a.translation.vector.xy() - b.translation.vector.xy()).norm();
+            assert!(d < 1e-9, "at {t}: {d}");
+        }
+        // A start of 0 is the usual walk.
+        let mut same = usual.clone();
+        same.start_at(0.0);
+        assert_eq!(same.pose_at(1.3), usual.pose_at(1.3));
     }
 
     #[test]

@@ -32,13 +32,14 @@ impl Simulator {
         } else {
             sensor
         };
-        let scene = Scene::build(
+        let mut scene = Scene::build(
             config.scene,
             config.seed,
             config.speed_scale,
             config.sway_scale,
             config.appearance,
         )?;
+        scene.motion.start_at(config.start_lap);
         let rated = match config.sensor {
             SensorKind::Os0_128 => 35.0,
             SensorKind::Os1_64 => 45.0,

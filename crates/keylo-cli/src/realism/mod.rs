@@ -13,7 +13,8 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use keylo::features::image::{Normalise, NormaliseMethod};
-use keylo::kpeval::realism::{shifts, Histograms};
+use keylo::kpeval::motion::steps;
+use keylo::kpeval::realism::Histograms;
 use keylo::kpeval::{evaluate, summarise, ComboSummary, EvalOptions, EvalSpec, Plane, Quartiles};
 use keylo::sim::{SimConfig, Simulator};
 use keylo::{BuildContext, Channel};
@@ -35,17 +36,24 @@ pub struct RealismArgs {
     #[arg(long, default_value_t = 100)]
     pub real_frames: usize,
     /// First real image used (in name order). The `ouster` lab was tuned on the TIERS images
-    /// 0–99 (the sensor nearly still); images it was not tuned on: 100 on.
+    /// 0–99 (the sensor nearly still); images it was not tuned on: 100 on (the whole
+    /// recording's last 100, 1046–1145, still again: scripts/study/tiers_images.sh).
     #[arg(long, default_value_t = 0)]
     pub real_start: usize,
     /// Also compare a moving simulated sensor with a moving real stretch: `--real-frames`
     /// images from FIRST (e.g. 200: the TIERS sensor moves through the room from about image
-    /// 50 on), the simulated motion matched to the real one's (its speed scaled until the
-    /// median horizontal shift between consecutive images is the real stretch's), and report
+    /// 50 on), the simulated motion matched to the real one's (its speed and sway scaled until
+    /// the median horizontal shift and the median change beyond it between consecutive images
+    /// are the real stretch's), and report
     /// still and moving side by side (realism.md; each in full in still/ and moving/). The
     /// still half then holds the simulated sensor still.
     #[arg(long, value_name = "FIRST")]
     pub moving_start: Option<usize>,
+    /// Where on its loop the moving simulated sensor starts, as a share of the lap
+    /// (`start_lap`): the lab's walk runs straightest a quarter lap on, where it turns least
+    /// for the way it travels, as the real sensor does.
+    #[arg(long, value_name = "SHARE", default_value_t = 0.25)]
+    pub moving_lap: f64,
     /// Scene simulated: lab, corridor, road, park (see `keylo sim --help`).
     #[arg(long, default_value = "lab")]
     pub scene: String,
@@ -87,6 +95,9 @@ pub struct ImageSet {
     pub histograms: Histograms,
     /// Median horizontal shift between consecutive images, pixels.
     pub shift: Option<f64>,
+    /// Median change between consecutive images beyond their shift, grey levels
+    /// (`keylo::kpeval::motion::Step::change`).
+    pub change: Option<f64>,
     /// Sequences the images come from (simulated: one per seed).
     pub sequences: usize,
     pub summaries: Vec<ComboSummary>,
@@ -101,6 +112,12 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     }
     if args.seeds == 0 {
         bail!("--seeds 0: expected at least 1");
+    }
+    if !(0.0..1.0).contains(&args.moving_lap) {
+        bail!(
+            "--moving-lap {}: expected a share of the lap, ≥ 0 and < 1",
+            args.moving_lap
+        );
     }
     let channels = channels(&args.channels)?;
     let config = crate::cmd_sim::setup::sim_config(&args.scene, args.frames, &args.sets)?;
@@ -132,7 +149,13 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
         real_planes(&args, moving_start)?,
     );
     let still = ctx.protocol(real_still, &still_config, "still")?;
-    let motion = motion::matched(&config, median_shift(&real_moving)?, quiet)?;
+    let motion = motion::matched(
+        &config,
+        median_motion(&real_moving)?,
+        args.moving_lap,
+        args.seeds,
+        quiet,
+    )?;
     let moving = ctx.protocol(real_moving, &motion.config, "moving")?;
     for (name, sets) in [("still", &still), ("moving", &moving)] {
         let dir = args.out.join(name);
@@ -182,11 +205,31 @@ fn heading(args: &RealismArgs, half: &str) -> String {
     }
 }
 
-/// The median horizontal shift between consecutive images of `planes`, pixels at the study's
-/// size.
-pub(crate) fn median_shift(planes: &[Plane]) -> Result<f64> {
-    let moved = shifts(planes, &EvalSpec::default().image)?;
-    Ok(Quartiles::of(&moved).map_or(0.0, |q| q.median))
+/// How consecutive images of `planes` differ (at the study's size): the median horizontal
+/// shift, pixels, and the median change beyond it, grey levels.
+pub(crate) fn median_motion(planes: &[Plane]) -> Result<Moved> {
+    let steps = steps(planes, &EvalSpec::default().image)?;
+    Ok(Moved::of(&steps))
+}
+
+/// Median shift and change of a set of steps (0 without any).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Moved {
+    pub shift: f64,
+    pub change: f64,
+}
+
+impl Moved {
+    pub(crate) fn of(steps: &[keylo::kpeval::motion::Step]) -> Self {
+        let median = |f: fn(&keylo::kpeval::motion::Step) -> f64| {
+            let v: Vec<f64> = steps.iter().map(f).collect();
+            Quartiles::of(&v).map_or(0.0, |q| q.median)
+        };
+        Self {
+            shift: median(|s| s.shift),
+            change: median(|s| s.change),
+        }
+    }
 }
 
 /// What every protocol shares.
@@ -243,12 +286,13 @@ impl Protocol<'_> {
                     bail!("{name} images: {combo} failed: {why}");
                 }
                 rows.extend(result.rows);
-                moved.extend(shifts(planes, &spec.image)?);
+                moved.extend(steps(planes, &spec.image)?);
             }
             bar.finish_and_clear();
             sets.push(ImageSet {
                 histograms: Histograms::of(runs.iter().flatten(), &spec.image)?,
-                shift: Quartiles::of(&moved).map(|q| q.median),
+                shift: (!moved.is_empty()).then(|| Moved::of(&moved).shift),
+                change: (!moved.is_empty()).then(|| Moved::of(&moved).change),
                 sequences: runs.len(),
                 summaries: summarise(&rows),
                 name,

@@ -1,66 +1,172 @@
-//! The simulated motion matched to a real stretch's: the lab's walk, at full speed from the
-//! first frame, its speed (and sway) scaled until the median horizontal shift between
-//! consecutive signal images is the real one's.
+//! The simulated motion matched to a real stretch's. Two numbers describe how consecutive
+//! images differ (`keylo::kpeval::motion`): the horizontal shift (how far the view turned) and
+//! the change beyond it (parallax as the sensor travels, tilt, noise). Two knobs move the
+//! simulated sensor: `speed_scale` (how far it travels per frame, and so the change) and
+//! `sway_scale` (how much it turns and tilts about its heading, and so the shift). Each round
+//! measures both numbers on the first layouts and scales each knob towards its number.
 
 use anyhow::Result;
 use keylo::sim::{SimConfig, Simulator};
 use keylo::Channel;
 
-use super::{median_shift, sim_planes};
+use keylo::kpeval::motion::steps;
+use keylo::kpeval::EvalSpec;
 
-/// Rounds of scaling: the shift grows about in proportion to the speed, so two or three
-/// bring it within a few per cent.
-const ROUNDS: usize = 3;
+use super::{sim_planes, Moved};
 
-/// Bounds of the speed scale searched.
+/// Rounds of scaling.
+const ROUNDS: usize = 5;
+
+/// Layouts each round measures (the first ones; fewer if the protocol has fewer): a single
+/// layout's few steps give a noisy median.
+const LAYOUTS: u64 = 4;
+
+/// Bounds of both scales.
 const SCALES: (f64, f64) = (0.005, 10.0);
+
+/// The most a knob moves in one round (times or divided by).
+const MAX_STEP: f64 = 3.0;
+
+/// The first guess: the lab's walk at a fifth of its speed and sway.
+const FIRST: (f64, f64) = (0.2, 0.2);
 
 /// The motion found.
 #[derive(Debug, Clone)]
 pub struct Motion {
     /// The simulator's parameters for the moving half.
     pub config: SimConfig,
-    /// Median horizontal shift of the real stretch, pixels between consecutive images.
-    pub real_shift: f64,
-    /// The same of the simulated sequence of `config`'s first layout.
-    pub sim_shift: f64,
+    /// How the real stretch moves between consecutive images (median shift and change).
+    pub real: Moved,
+    /// The same of the simulated sequences of `config`'s first layouts.
+    pub sim: Moved,
+    /// The simulated sensor held still: the change of its noise alone.
+    pub still: Moved,
+    /// Layouts measured.
+    pub layouts: u64,
 }
 
-/// `config` moving as the real stretch whose median shift is `real_shift`: `speed_scale`
-/// and `sway_scale` scaled together, `start_ramp_s = 0`, measured on `config`'s own layout.
-pub fn matched(config: &SimConfig, real_shift: f64, quiet: bool) -> Result<Motion> {
-    let mut scale = 1.0f64;
-    let mut moving = config.clone();
-    let mut sim_shift = 0.0;
+/// `config` moving as the real stretch that moves as `real`: started `start_lap` of a lap on,
+/// at full speed from the first frame (`start_ramp_s = 0`), its `speed_scale` and
+/// `sway_scale` found in [`ROUNDS`] rounds, measured on `layouts` layouts (at most
+/// [`LAYOUTS`]).
+pub fn matched(
+    config: &SimConfig,
+    real: Moved,
+    start_lap: f64,
+    layouts: usize,
+    quiet: bool,
+) -> Result<Motion> {
+    let base = SimConfig {
+        start_ramp_s: 0.0,
+        start_lap,
+        ..config.clone()
+    };
+    let layouts = (layouts as u64).clamp(1, LAYOUTS);
+    let still = measure(&scaled(&base, 0.0, 0.0), layouts)?;
+    let (mut speed, mut sway) = FIRST;
+    let mut best: Option<(f64, SimConfig, Moved)> = None;
     for round in 0..ROUNDS {
-        moving = SimConfig {
-            speed_scale: scale,
-            sway_scale: scale,
-            start_ramp_s: 0.0,
-            ..config.clone()
-        };
-        let sim = Simulator::new(&moving)?;
-        let planes = sim_planes(&sim, &[Channel::Signal], None)
-            .into_iter()
-            .next()
-            .map(|(_, p)| p)
-            .unwrap_or_default();
-        sim_shift = median_shift(&planes)?;
+        let moving = scaled(&base, speed, sway);
+        let sim = measure(&moving, layouts)?;
         if !quiet {
             eprintln!(
-                "motion, round {}: speed_scale {scale:.4}: {sim_shift:.3} px per frame \
-                 (real {real_shift:.3})",
-                round + 1
+                "motion, round {}: speed_scale {speed:.4}, sway_scale {sway:.4}: shift {:.3} px, \
+                 change {:.2} (real {:.3} px, {:.2}; simulated still: change {:.2})",
+                round + 1,
+                sim.shift,
+                sim.change,
+                real.shift,
+                real.change,
+                still.change
             );
         }
-        if sim_shift <= 0.0 || real_shift <= 0.0 {
-            break;
+        let miss = relative(sim.shift, real.shift).abs() + relative(sim.change, real.change).abs();
+        if best.as_ref().is_none_or(|b| miss < b.0) {
+            best = Some((miss, moving, sim));
         }
-        scale = (scale * real_shift / sim_shift).clamp(SCALES.0, SCALES.1);
+        // The change above the still sensor's follows the way travelled; the shift follows the
+        // sway (the walk's own turning adds to it, so the sway scale may fall to its bound).
+        speed = (speed * ratio(real.change - still.change, sim.change - still.change))
+            .clamp(SCALES.0, SCALES.1);
+        sway = (sway * ratio(real.shift, sim.shift)).clamp(SCALES.0, SCALES.1);
     }
+    let (_, config, sim) = best.unwrap_or((0.0, base, still));
     Ok(Motion {
-        config: moving,
-        real_shift,
-        sim_shift,
+        config,
+        real,
+        sim,
+        still,
+        layouts,
     })
+}
+
+fn scaled(base: &SimConfig, speed: f64, sway: f64) -> SimConfig {
+    SimConfig {
+        speed_scale: speed,
+        sway_scale: sway,
+        ..base.clone()
+    }
+}
+
+/// `want / got`, limited to [`MAX_STEP`] either way and to a knob's bounds; 1 where either is
+/// not positive.
+fn ratio(want: f64, got: f64) -> f64 {
+    if want <= 0.0 || got <= 0.0 {
+        return if want <= 0.0 && got > 0.0 {
+            1.0 / MAX_STEP
+        } else {
+            1.0
+        };
+    }
+    (want / got).clamp(1.0 / MAX_STEP, MAX_STEP)
+}
+
+/// `(a − b) / b`, 0 where `b` is 0.
+fn relative(a: f64, b: f64) -> f64 {
+    if b == 0.0 {
+        0.0
+    } else {
+        (a - b) / b
+    }
+}
+
+/// Median shift and change of the signal images of `config`'s first `layouts` layouts.
+fn measure(config: &SimConfig, layouts: u64) -> Result<Moved> {
+    let mut planes = Vec::new();
+    let mut moved = Vec::new();
+    for k in 0..layouts {
+        let seeded = SimConfig {
+            seed: config.seed + k,
+            ..config.clone()
+        };
+        let sim = Simulator::new(&seeded)?;
+        planes.clear();
+        planes.extend(
+            sim_planes(&sim, &[Channel::Signal], None)
+                .into_iter()
+                .next()
+                .map(|(_, p)| p)
+                .unwrap_or_default(),
+        );
+        moved.extend(steps(&planes, &EvalSpec::default().image)?);
+    }
+    Ok(Moved::of(&moved))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_round_moves_a_knob_towards_its_number_at_most_threefold() {
+        assert_eq!(ratio(2.0, 1.0), 2.0);
+        assert_eq!(ratio(10.0, 1.0), MAX_STEP);
+        assert_eq!(ratio(1.0, 10.0), 1.0 / MAX_STEP);
+        // The real change at or below the still sensor's noise: slow down.
+        assert_eq!(ratio(-0.1, 2.0), 1.0 / MAX_STEP);
+        // Nothing measured: stay.
+        assert_eq!(ratio(1.0, 0.0), 1.0);
+        assert_eq!(relative(1.5, 1.0), 0.5);
+        assert_eq!(relative(1.5, 0.0), 0.0);
+    }
 }

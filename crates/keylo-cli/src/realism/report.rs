@@ -226,17 +226,20 @@ fn histogram_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
         "## Histograms\n\nMean over each set's resized images. EMD: earth mover's distance to \
          the real images' histogram (grey levels; gradient: grey levels per pixel of Sobel \
          magnitude); Hellinger: 0 same, 1 disjoint. Shift: median horizontal shift between \
-         consecutive images (pixels at 1024×64, phase correlation) — the match metrics fall as \
-         it grows, so compare sets that move alike.\n\n",
+         consecutive images (pixels at 1024×64, phase correlation); change: median mean \
+         absolute difference between consecutive images once the shift is undone (grey \
+         levels; a still sensor's is its noise) — the match metrics fall as either grows, so \
+         compare sets that move alike.\n\n",
     );
     md.push_str(
-        "| images | shift | mean grey | intensity EMD | intensity Hellinger | mean gradient | \
-         gradient EMD | gradient Hellinger |\n|---|---|---|---|---|---|---|---|\n",
+        "| images | shift | change | mean grey | intensity EMD | intensity Hellinger | mean \
+         gradient | gradient EMD | gradient Hellinger |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     let _ = writeln!(
         md,
-        "| real | {} | {:.1} | – | – | {:.1} | – | – |",
+        "| real | {} | {} | {:.1} | – | – | {:.1} | – | – |",
         shift(real),
+        change(real),
         real.histograms.mean_intensity(),
         real.histograms.mean_gradient()
     );
@@ -244,9 +247,10 @@ fn histogram_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
         let (i, g) = distances(real, s);
         let _ = writeln!(
             md,
-            "| {} | {} | {:.1} | {:.1} | {:.3} | {:.1} | {:.1} | {:.3} |",
+            "| {} | {} | {} | {:.1} | {:.1} | {:.3} | {:.1} | {:.1} | {:.3} |",
             s.name,
             shift(s),
+            change(s),
             s.histograms.mean_intensity(),
             i.emd,
             i.hellinger,
@@ -259,6 +263,10 @@ fn histogram_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
 
 fn shift(set: &ImageSet) -> String {
     set.shift.map_or_else(|| "–".into(), |s| format!("{s:.2}"))
+}
+
+fn change(set: &ImageSet) -> String {
+    set.change.map_or_else(|| "–".into(), |s| format!("{s:.2}"))
 }
 
 /// Mean grey per row band, real and simulated, and each set's mean absolute difference from
@@ -342,6 +350,7 @@ fn json(sets: &[ImageSet]) -> serde_json::Value {
                 "median_row_residual": s.histograms.median_row_residual(),
                 "median_column_residual": s.histograms.median_column_residual(),
                 "median_shift_px": s.shift,
+                "median_change": s.change,
                 "intensity_distance": d.map(|d| d.0),
                 "gradient_distance": d.map(|d| d.1),
                 "combos": s.summaries,

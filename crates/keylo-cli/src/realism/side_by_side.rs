@@ -106,21 +106,31 @@ fn cells(
 pub fn markdown(h: &Halves, heading: &str) -> String {
     let images = |sets: &[ImageSet]| sets.first().map_or(0, |s| s.histograms.images);
     let layouts = h.still.get(1).map_or(0, |s| s.sequences);
+    let m = h.motion;
     let mut md = format!(
         "# Simulated against real images: still and moving\n\n{heading}\n\n\
          - **Still**: real images {a}–{b}; the simulated sensor held still.\n\
-         - **Moving**: real images {c}–{d} (median shift {rs:.2} px between consecutive \
-         images at 1024×64); the lab's walk from full speed, `speed_scale = sway_scale = \
-         {scale:.4}` ({ss:.2} px on the first layout), chosen so that the two move alike.\n\
+         - **Moving**: real images {c}–{d}: between consecutive images (at 1024×64) a median \
+         shift of {rs:.2} px and a change beyond it of {rc:.2} grey levels. Simulated: the \
+         lab's walk from full speed, started {lap} of a lap on, `speed_scale = {speed:.4}`, \
+         `sway_scale = {sway:.4}`, chosen so that the two move alike (shift {ss:.2} px, change \
+         {sc:.2} on the first {n} layouts; held still, the simulated change is {still:.2}, its \
+         noise alone).\n\
          - {layouts} simulated layouts in each half; the simulated signal as Ouster's driver \
          makes its images; each half in full in `still/` and `moving/`.\n\n",
         a = h.still_first,
         b = h.still_first + images(h.still).saturating_sub(1),
         c = h.moving_first,
         d = h.moving_first + images(h.moving).saturating_sub(1),
-        rs = h.motion.real_shift,
-        scale = h.motion.config.speed_scale,
-        ss = h.motion.sim_shift,
+        rs = m.real.shift,
+        rc = m.real.change,
+        lap = m.config.start_lap,
+        speed = m.config.speed_scale,
+        sway = m.config.sway_scale,
+        ss = m.sim.shift,
+        sc = m.sim.change,
+        n = m.layouts,
+        still = m.still.change,
     );
     md.push_str("## Goal\n\n| | still | moving |\n|---|---|---|\n");
     for (metric, words, test) in TESTS {
