@@ -93,11 +93,9 @@ pub struct RealismArgs {
 pub struct ImageSet {
     pub name: String,
     pub histograms: Histograms,
-    /// Median horizontal shift between consecutive images, pixels.
-    pub shift: Option<f64>,
-    /// Median change between consecutive images beyond their shift, grey levels
-    /// (`keylo::kpeval::motion::Step::change`).
-    pub change: Option<f64>,
+    /// How consecutive images differ: median horizontal shift, pixels, and median change
+    /// beyond it, grey levels (`keylo::kpeval::motion::Step`); `None` without two images.
+    pub moved: Option<Moved>,
     /// Sequences the images come from (simulated: one per seed).
     pub sequences: usize,
     pub summaries: Vec<ComboSummary>,
@@ -113,11 +111,12 @@ pub fn run(args: RealismArgs, threads: Option<usize>, quiet: bool) -> Result<Exi
     if args.seeds == 0 {
         bail!("--seeds 0: expected at least 1");
     }
-    if !(0.0..1.0).contains(&args.moving_lap) {
-        bail!(
-            "--moving-lap {}: expected a share of the lap, ≥ 0 and < 1",
-            args.moving_lap
-        );
+    let lap = SimConfig {
+        start_lap: args.moving_lap,
+        ..SimConfig::default()
+    };
+    if let Err(e) = lap.validate() {
+        bail!("--moving-lap {}: {e}", args.moving_lap);
     }
     let channels = channels(&args.channels)?;
     let config = crate::cmd_sim::setup::sim_config(&args.scene, args.frames, &args.sets)?;
@@ -291,8 +290,7 @@ impl Protocol<'_> {
             bar.finish_and_clear();
             sets.push(ImageSet {
                 histograms: Histograms::of(runs.iter().flatten(), &spec.image)?,
-                shift: (!moved.is_empty()).then(|| Moved::of(&moved).shift),
-                change: (!moved.is_empty()).then(|| Moved::of(&moved).change),
+                moved: (!moved.is_empty()).then(|| Moved::of(&moved)),
                 sequences: runs.len(),
                 summaries: summarise(&rows),
                 name,

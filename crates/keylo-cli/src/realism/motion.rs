@@ -132,7 +132,6 @@ fn relative(a: f64, b: f64) -> f64 {
 
 /// Median shift and change of the signal images of `config`'s first `layouts` layouts.
 fn measure(config: &SimConfig, layouts: u64) -> Result<Moved> {
-    let mut planes = Vec::new();
     let mut moved = Vec::new();
     for k in 0..layouts {
         let seeded = SimConfig {
@@ -140,14 +139,11 @@ fn measure(config: &SimConfig, layouts: u64) -> Result<Moved> {
             ..config.clone()
         };
         let sim = Simulator::new(&seeded)?;
-        planes.clear();
-        planes.extend(
-            sim_planes(&sim, &[Channel::Signal], None)
-                .into_iter()
-                .next()
-                .map(|(_, p)| p)
-                .unwrap_or_default(),
-        );
+        let planes = sim_planes(&sim, &[Channel::Signal], None)
+            .into_iter()
+            .next()
+            .map(|(_, p)| p)
+            .unwrap_or_default();
         moved.extend(steps(&planes, &EvalSpec::default().image)?);
     }
     Ok(Moved::of(&moved))

@@ -262,11 +262,13 @@ fn histogram_table(md: &mut String, real: &ImageSet, sim: &[ImageSet]) {
 }
 
 fn shift(set: &ImageSet) -> String {
-    set.shift.map_or_else(|| "–".into(), |s| format!("{s:.2}"))
+    set.moved
+        .map_or_else(|| "–".into(), |m| format!("{:.2}", m.shift))
 }
 
 fn change(set: &ImageSet) -> String {
-    set.change.map_or_else(|| "–".into(), |s| format!("{s:.2}"))
+    set.moved
+        .map_or_else(|| "–".into(), |m| format!("{:.2}", m.change))
 }
 
 /// Mean grey per row band, real and simulated, and each set's mean absolute difference from
@@ -349,8 +351,8 @@ fn json(sets: &[ImageSet]) -> serde_json::Value {
                 "row_profile": s.histograms.row_profile,
                 "median_row_residual": s.histograms.median_row_residual(),
                 "median_column_residual": s.histograms.median_column_residual(),
-                "median_shift_px": s.shift,
-                "median_change": s.change,
+                "median_shift_px": s.moved.map(|m| m.shift),
+                "median_change": s.moved.map(|m| m.change),
                 "intensity_distance": d.map(|d| d.0),
                 "gradient_distance": d.map(|d| d.1),
                 "combos": s.summaries,
