@@ -5,7 +5,6 @@
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{anyhow, Context, Result};
 use clap::Args;
@@ -41,9 +40,6 @@ pub struct LocaliseArgs {
     #[command(flatten)]
     pub view: crate::arg_groups::ViewArgs,
 }
-
-/// Set by Ctrl-C or SIGTERM.
-static STOP: AtomicBool = AtomicBool::new(false);
 
 pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     let map = Map::open(&args.map)?;
@@ -95,14 +91,9 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     let (mut lost, mut seconds) = (0usize, 0.0);
     // Ctrl-C or SIGTERM: stop after the current frame, write what is done, close the
     // recording.
-    if let Err(e) = ctrlc::set_handler(|| {
-        STOP.store(true, Ordering::SeqCst);
-        keylo::io::ouster::stop_live_sources();
-    }) {
-        tracing::warn!("Ctrl-C will not save partial results: {e}");
-    }
+    crate::interrupt::install("Ctrl-C will not save partial results");
     while let Some(frame) = source.next_frame() {
-        if STOP.load(Ordering::SeqCst) {
+        if crate::interrupt::requested() {
             break;
         }
         let frame = frame?;
@@ -167,7 +158,7 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         eprintln!("error: {e:#} (trajectory.tum and localise.csv are written)");
         return Ok(ExitCode::FAILURE);
     }
-    if STOP.load(Ordering::SeqCst) {
+    if crate::interrupt::requested() {
         eprintln!(
             "interrupted: the {n} frames done are written to {}",
             args.out.display()

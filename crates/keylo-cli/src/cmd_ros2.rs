@@ -4,7 +4,6 @@
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use anyhow::{Context, Result};
@@ -42,8 +41,6 @@ pub struct Ros2Args {
     #[command(flatten)]
     pub view: crate::arg_groups::ViewArgs,
 }
-
-static STOP: AtomicBool = AtomicBool::new(false);
 
 pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     let mut registry = keylo::registry();
@@ -101,12 +98,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     let run = view_out::RunDescription::of(&config, resolved, described, Some(&odometry));
     let mut view = view_out::start(&args.view, run, quiet)?;
     node.want_features(map.as_ref().is_some_and(NodeMap::wants_features) || view.is_some());
-    if let Err(e) = ctrlc::set_handler(|| {
-        STOP.store(true, Ordering::SeqCst);
-        keylo::io::ouster::stop_live_sources();
-    }) {
-        tracing::warn!("Ctrl-C will not end the node cleanly: {e}");
-    }
+    crate::interrupt::install("Ctrl-C will not end the node cleanly");
     let idle = (args.idle_timeout > 0.0).then(|| Duration::from_secs_f64(args.idle_timeout));
     let clock = resources::RunClock::start();
     let mut totals = Totals::default();
@@ -170,10 +162,14 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     };
     let (stats, counters) = match source {
         Some(source) => {
-            let (stats, source) = node.run_source(&mut odometry, source, &STOP, on_frame);
+            let (stats, source) =
+                node.run_source(&mut odometry, source, &crate::interrupt::STOP, on_frame);
             (stats, source.counters())
         }
-        None => (node.run(&mut odometry, &STOP, idle, on_frame), Vec::new()),
+        None => (
+            node.run(&mut odometry, &crate::interrupt::STOP, idle, on_frame),
+            Vec::new(),
+        ),
     };
     let counters: std::collections::BTreeMap<String, u64> = counters.into_iter().collect();
     // A recording that cannot be closed is said after the node's own files are written.

@@ -19,6 +19,7 @@ mod compare;
 mod configs;
 mod degeneracy_out;
 mod degenerate_out;
+mod interrupt;
 mod journal;
 mod keypoints;
 mod overlay;

@@ -5,7 +5,6 @@ mod args;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -271,9 +270,6 @@ fn write_map(out: &std::path::Path, odometry: &keylo::Odometry) -> Result<()> {
     )
 }
 
-/// Set by Ctrl-C or SIGTERM: the run stops after the current frame and writes what it has.
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
-
 fn process_all(
     pipeline: &mut Pipeline,
     config: &PipelineConfig,
@@ -281,17 +277,12 @@ fn process_all(
     outputs: &mut Outputs,
     st: &mut RunState,
 ) {
-    if let Err(e) = ctrlc::set_handler(|| {
-        INTERRUPTED.store(true, Ordering::SeqCst);
-        // A live source waiting for packets ends its stream (the frame in progress is kept).
-        keylo::io::ouster::stop_live_sources();
-    }) {
-        tracing::warn!("Ctrl-C will not save partial results: {e}");
-    }
+    // Ctrl-C or SIGTERM: the run stops after the current frame and writes what it has.
+    crate::interrupt::install("Ctrl-C will not save partial results");
     // Index of the next frame, for messages about a frame the source could not read.
     let mut next = 0u64;
     loop {
-        if INTERRUPTED.load(Ordering::SeqCst) {
+        if crate::interrupt::requested() {
             st.failure = Some(Failure {
                 frame: next,
                 error: "interrupted (Ctrl-C or SIGTERM)".into(),
