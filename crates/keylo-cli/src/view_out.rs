@@ -8,7 +8,9 @@ use nalgebra::Point3;
 
 use crate::arg_groups::ViewArgs;
 
-/// What the recording and the viewer are told about the run.
+/// What the recording and the viewer are told about the run (read only with the `view`
+/// feature: without it the options are refused before a run starts).
+#[cfg_attr(not(feature = "view"), allow(dead_code))]
 pub struct RunDescription {
     pub command: String,
     pub config_origin: String,
