@@ -15,7 +15,7 @@ use keylo::kpeval::EvalSpec;
 use super::{sim_planes, Moved};
 
 /// Rounds of scaling.
-const ROUNDS: usize = 5;
+const ROUNDS: usize = 8;
 
 /// Layouts each round measures (the first ones; fewer if the protocol has fewer): a single
 /// layout's few steps give a noisy median.
@@ -63,16 +63,18 @@ pub fn matched(
     };
     let layouts = (layouts as u64).clamp(1, LAYOUTS);
     let still = measure(&scaled(&base, 0.0, 0.0), layouts)?;
-    let (mut speed, mut sway) = FIRST;
+    let (mut speed, mut sway) = (Knob::new(FIRST.0), Knob::new(FIRST.1));
     let mut best: Option<(f64, SimConfig, Moved)> = None;
     for round in 0..ROUNDS {
-        let moving = scaled(&base, speed, sway);
+        let moving = scaled(&base, speed.at, sway.at);
         let sim = measure(&moving, layouts)?;
         if !quiet {
             eprintln!(
-                "motion, round {}: speed_scale {speed:.4}, sway_scale {sway:.4}: shift {:.3} px, \
+                "motion, round {}: speed_scale {:.4}, sway_scale {:.4}: shift {:.3} px, \
                  change {:.2} (real {:.3} px, {:.2}; simulated still: change {:.2})",
                 round + 1,
+                speed.at,
+                sway.at,
                 sim.shift,
                 sim.change,
                 real.shift,
@@ -86,9 +88,8 @@ pub fn matched(
         }
         // The change above the still sensor's follows the way travelled; the shift follows the
         // sway (the walk's own turning adds to it, so the sway scale may fall to its bound).
-        speed = (speed * ratio(real.change - still.change, sim.change - still.change))
-            .clamp(SCALES.0, SCALES.1);
-        sway = (sway * ratio(real.shift, sim.shift)).clamp(SCALES.0, SCALES.1);
+        speed.next(real.change - still.change, sim.change - still.change);
+        sway.next(real.shift, sim.shift);
     }
     let (_, config, sim) = best.unwrap_or((0.0, base, still));
     Ok(Motion {
@@ -105,6 +106,53 @@ fn scaled(base: &SimConfig, speed: f64, sway: f64) -> SimConfig {
         speed_scale: speed,
         sway_scale: sway,
         ..base.clone()
+    }
+}
+
+/// One knob's search: scaled by `want / got` (at most [`MAX_STEP`]) until two settings
+/// bracket the wanted number, then between them by interpolation in log–log (the shift grows
+/// steeply and unevenly with the sway, and plain scaling jumps back and forth past it).
+#[derive(Debug, Clone, Copy)]
+struct Knob {
+    /// The setting measured next.
+    at: f64,
+    /// The highest setting measured below the wanted number, and what it gave.
+    below: Option<(f64, f64)>,
+    /// The lowest setting measured above it, and what it gave.
+    above: Option<(f64, f64)>,
+}
+
+impl Knob {
+    fn new(at: f64) -> Self {
+        Knob {
+            at,
+            below: None,
+            above: None,
+        }
+    }
+
+    /// Records that [`Knob::at`] gave `got` and moves it towards `want`.
+    fn next(&mut self, want: f64, got: f64) {
+        if want > 0.0 && got > 0.0 {
+            let point = Some((self.at, got));
+            if got < want {
+                if self.below.is_none_or(|(k, _)| self.at > k) {
+                    self.below = point;
+                }
+            } else if self.above.is_none_or(|(k, _)| self.at < k) {
+                self.above = point;
+            }
+        }
+        self.at = match (self.below, self.above) {
+            (Some((k0, v0)), Some((k1, v1))) if k0 < k1 && v0 < v1 => {
+                // The share of the way from k0 to k1 (in logs) kept within its middle 80 %, so
+                // that a curved response still narrows the bracket every round.
+                let t = ((want.ln() - v0.ln()) / (v1.ln() - v0.ln())).clamp(0.1, 0.9);
+                (k0.ln() + t * (k1.ln() - k0.ln())).exp()
+            }
+            _ => self.at * ratio(want, got),
+        }
+        .clamp(SCALES.0, SCALES.1);
     }
 }
 
@@ -164,5 +212,38 @@ mod tests {
         assert_eq!(ratio(1.0, 0.0), 1.0);
         assert_eq!(relative(1.5, 1.0), 0.5);
         assert_eq!(relative(1.5, 0.0), 0.0);
+    }
+
+    #[test]
+    fn a_bracketed_knob_converges_on_a_steep_uneven_response() {
+        // A response that jumps: 0.25 below a setting of 0.4, then steeply up (as the median
+        // shift does with the sway); wanted 0.55, reached at about 0.419.
+        let response = |k: f64| {
+            if k < 0.4 {
+                0.25 * k / 0.4
+            } else {
+                0.25 + 15.0 * (k - 0.4)
+            }
+        };
+        let mut knob = Knob::new(0.2);
+        let mut last = 0.0;
+        for _ in 0..ROUNDS {
+            last = response(knob.at);
+            knob.next(0.55, last);
+        }
+        assert!(
+            (response(knob.at) - 0.55).abs() < 0.05,
+            "{} gives {}",
+            knob.at,
+            last
+        );
+        // Plain scaling alone stays on the coarse steps of at most threefold.
+        let mut knob = Knob::new(1.0);
+        knob.next(2.0, 8.0);
+        assert!((knob.at - 1.0 / MAX_STEP).abs() < 1e-12);
+        // Nothing measured: stays.
+        let mut knob = Knob::new(0.3);
+        knob.next(1.0, 0.0);
+        assert_eq!(knob.at, 0.3);
     }
 }
