@@ -92,10 +92,9 @@ pub struct SimConfig {
     /// fraction of their signal now and then or beside a range jump, and (OS0-128) a real
     /// sensor's staggered beams, whose offsets and beam origins leave near vertical edges
     /// ragged — and, in the lab, a 16.5 m × 11 m hall, 4.5 m high, with painted walls, a
-    /// dark floor, clutter along the walls and people, stands and racks near the path. Its
-    /// signal images look like
-    /// the real ones made as Ouster's ROS driver makes them (`[image.normalise] method =
-    /// "ouster-ros"`; docs/results/sim-realism.md).
+    /// dark floor with marks on it, clutter along the walls and people, stands and racks near
+    /// the path. Its signal images look like the real ones made as Ouster's ROS driver makes
+    /// them (`[image.normalise] method = "ouster-ros"`; docs/results/sim-realism.md).
     pub appearance: crate::Appearance,
 }
 

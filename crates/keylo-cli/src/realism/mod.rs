@@ -35,9 +35,10 @@ pub struct RealismArgs {
     /// Real images used (N from `--real-start`).
     #[arg(long, default_value_t = 100)]
     pub real_frames: usize,
-    /// First real image used (in name order). The `ouster` lab was tuned on the TIERS images
-    /// 0–99 (the sensor nearly still); images it was not tuned on: 100 on (the whole
-    /// recording's last 100, 1046–1145, still again: scripts/study/tiers_images.sh).
+    /// First real image used (in name order). The `ouster` lab's clutter was tuned on the
+    /// median counts of the whole TIERS recording (its 1146 images:
+    /// scripts/study/tiers_images.sh), from views along the lab's whole walk; the sensor is
+    /// nearly still over 0–49 and the last ~150 images (1046–1145), and moves in between.
     #[arg(long, default_value_t = 0)]
     pub real_start: usize,
     /// Also compare a moving simulated sensor with a moving real stretch: `--real-frames`

@@ -55,7 +55,10 @@ pub(super) fn build(
         long_wall_furniture(&mut b, r, side);
         end_wall_furniture(&mut b, r, side);
     }
-    centre(&mut b, r.height);
+    // The hall's middle is open floor: the near items stand there (see `hall`).
+    if look == Appearance::Ideal {
+        centre(&mut b, r.height);
+    }
     let a = b.rng.random_range(3.6..4.0);
     let bb = b.rng.random_range(1.9..2.2);
     let sway = Sway {
@@ -83,7 +86,7 @@ const FLOOR_TILE_M: f32 = 0.6;
 const FLOOR_TILE_CONTRAST: f32 = 0.3;
 /// Share of the `ouster` floor's 0.1 m cells holding a bright fleck (see
 /// [`Pattern::Flooring`]).
-const FLOOR_FLECKS: f32 = 0.22;
+const FLOOR_FLECKS: f32 = 0.15;
 /// The `ouster` floor's albedo: dark. With the driver's square root the real floor reads
 /// grey 58–69 in the last two eighths of the rows; the still lab: 60 and 69.
 const FLOOR_ALBEDO: (f32, f32) = (0.042, 0.07);
