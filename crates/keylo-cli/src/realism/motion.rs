@@ -19,7 +19,7 @@ const ROUNDS: usize = 8;
 
 /// Layouts each round measures (the first ones; fewer if the protocol has fewer): a single
 /// layout's few steps give a noisy median.
-const LAYOUTS: u64 = 4;
+const LAYOUTS: u64 = 8;
 
 /// Bounds of both scales.
 const SCALES: (f64, f64) = (0.005, 10.0);
@@ -88,8 +88,13 @@ pub fn matched(
         }
         // The change above the still sensor's follows the way travelled; the shift follows the
         // sway (the walk's own turning adds to it, so the sway scale may fall to its bound).
-        speed.next(real.change - still.change, sim.change - still.change);
-        sway.next(real.shift, sim.shift);
+        let (speed_at, sway_at) = (speed.at, sway.at);
+        speed.next(
+            real.change - still.change,
+            sim.change - still.change,
+            sway_at,
+        );
+        sway.next(real.shift, sim.shift, speed_at);
     }
     let (_, config, sim) = best.unwrap_or((0.0, base, still));
     Ok(Motion {
@@ -111,16 +116,30 @@ fn scaled(base: &SimConfig, speed: f64, sway: f64) -> SimConfig {
 
 /// One knob's search: scaled by `want / got` (at most [`MAX_STEP`]) until two settings
 /// bracket the wanted number, then between them by interpolation in log–log (the shift grows
-/// steeply and unevenly with the sway, and plain scaling jumps back and forth past it).
+/// steeply and unevenly with the sway, and plain scaling jumps back and forth past it). Each
+/// knob also moves the other's number a little (turning more changes the view more), so a
+/// bracket end measured while the other knob stood elsewhere (by more than [`SAME_OTHER`]) is
+/// forgotten.
 #[derive(Debug, Clone, Copy)]
 struct Knob {
     /// The setting measured next.
     at: f64,
-    /// The highest setting measured below the wanted number, and what it gave.
-    below: Option<(f64, f64)>,
-    /// The lowest setting measured above it, and what it gave.
-    above: Option<(f64, f64)>,
+    /// The highest setting measured below the wanted number.
+    below: Option<Point>,
+    /// The lowest setting measured above it.
+    above: Option<Point>,
 }
+
+/// A knob's setting, what it gave, and where the other knob stood then.
+#[derive(Debug, Clone, Copy)]
+struct Point {
+    at: f64,
+    got: f64,
+    other: f64,
+}
+
+/// The most the other knob may have moved (times or divided by) for a bracket end to stand.
+const SAME_OTHER: f64 = 1.15;
 
 impl Knob {
     fn new(at: f64) -> Self {
@@ -131,24 +150,32 @@ impl Knob {
         }
     }
 
-    /// Records that [`Knob::at`] gave `got` and moves it towards `want`.
-    fn next(&mut self, want: f64, got: f64) {
+    /// Records that [`Knob::at`] gave `got` with the other knob at `other`, and moves it
+    /// towards `want`.
+    fn next(&mut self, want: f64, got: f64, other: f64) {
+        let current = |p: &Point| (other / p.other).ln().abs() <= SAME_OTHER.ln();
+        self.below = self.below.filter(current);
+        self.above = self.above.filter(current);
         if want > 0.0 && got > 0.0 {
-            let point = Some((self.at, got));
+            let point = Some(Point {
+                at: self.at,
+                got,
+                other,
+            });
             if got < want {
-                if self.below.is_none_or(|(k, _)| self.at > k) {
+                if self.below.is_none_or(|p| self.at > p.at) {
                     self.below = point;
                 }
-            } else if self.above.is_none_or(|(k, _)| self.at < k) {
+            } else if self.above.is_none_or(|p| self.at < p.at) {
                 self.above = point;
             }
         }
         self.at = match (self.below, self.above) {
-            (Some((k0, v0)), Some((k1, v1))) if k0 < k1 && v0 < v1 => {
-                // The share of the way from k0 to k1 (in logs) kept within its middle 80 %, so
+            (Some(lo), Some(hi)) if lo.at < hi.at && lo.got < hi.got => {
+                // The share of the way from lo to hi (in logs) kept within its middle 80 %, so
                 // that a curved response still narrows the bracket every round.
-                let t = ((want.ln() - v0.ln()) / (v1.ln() - v0.ln())).clamp(0.1, 0.9);
-                (k0.ln() + t * (k1.ln() - k0.ln())).exp()
+                let t = ((want.ln() - lo.got.ln()) / (hi.got.ln() - lo.got.ln())).clamp(0.1, 0.9);
+                (lo.at.ln() + t * (hi.at.ln() - lo.at.ln())).exp()
             }
             _ => self.at * ratio(want, got),
         }
@@ -229,7 +256,7 @@ mod tests {
         let mut last = 0.0;
         for _ in 0..ROUNDS {
             last = response(knob.at);
-            knob.next(0.55, last);
+            knob.next(0.55, last, 1.0);
         }
         assert!(
             (response(knob.at) - 0.55).abs() < 0.05,
@@ -239,11 +266,21 @@ mod tests {
         );
         // Plain scaling alone stays on the coarse steps of at most threefold.
         let mut knob = Knob::new(1.0);
-        knob.next(2.0, 8.0);
+        knob.next(2.0, 8.0, 1.0);
         assert!((knob.at - 1.0 / MAX_STEP).abs() < 1e-12);
+        // A bracket end measured with the other knob elsewhere is forgotten: below at 0.2
+        // (other knob 0.2), above at 0.21 (other knob 0.6); with the other knob now at 0.8
+        // 0.2 gives far more, so the knob is scaled down, not held between 0.2 and 0.21.
+        let mut knob = Knob::new(0.2);
+        knob.next(4.0, 3.0, 0.2);
+        knob.at = 0.21;
+        knob.next(4.0, 5.6, 0.6);
+        knob.next(4.0, 6.0, 0.8);
+        assert!(knob.below.is_none());
+        assert!(knob.at < 0.2, "{}", knob.at);
         // Nothing measured: stays.
         let mut knob = Knob::new(0.3);
-        knob.next(1.0, 0.0);
+        knob.next(1.0, 0.0, 1.0);
         assert_eq!(knob.at, 0.3);
     }
 }
