@@ -5,6 +5,7 @@
 # hybrid and GICP; every keypoint config also runs with a `random` and a `voxel-budget` sample of the
 # same per-frame point count.
 #   bash scripts/study/same_budget.sh [OUT]        # OUT defaults to /tmp/study; ~30 min on 2 cores
+#   SCENES=lab bash scripts/study/same_budget.sh   # some of the scenes only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 keylo=${KEYLO:-target/release/keylo}
@@ -12,7 +13,7 @@ out=${1:-/tmp/study}
 frames=${FRAMES:-300}
 mkdir -p "$out"
 P=configs/paper
-for scene in lab corridor road park; do
+for scene in ${SCENES:-lab corridor road park}; do
     data="$out/$scene-ouster"
     [ -f "$data/gt.tum" ] || "$keylo" -q sim --scene "$scene" --frames "$frames" --set appearance=ouster --out "$data"
     case $scene in lab|corridor) io=indoor ;; *) io=outdoor ;; esac
