@@ -65,11 +65,12 @@ pub(super) fn clutter(b: &mut SceneBuilder, r: Room, loop_axes: (f32, f32)) {
 const NEAR_ITEMS: usize = 19;
 /// Marks on the floor beside the loop: tape, scuffs, cables, a little brighter than the dark
 /// floor. The real images hold many weak corners on the floor 2–6 m away (11–34° below the
-/// horizon), which the plain floor lacked (`scripts/sim/keypoint_rows.py`: Shi-Tomasi 72 and
+/// horizon), which the tiled floor lacked (`scripts/sim/keypoint_rows.py`: Shi-Tomasi 72 and
 /// 34 per image in the sixth and seventh eighths of the rows, against the real 108 and 59;
 /// 80 and 50 with the marks).
 const FLOOR_MARKS: usize = 80;
-/// How far from the loop a floor mark lies, metres.
+/// How far from the loop a floor mark lies, metres (marks that fall beyond the walls are
+/// hidden by them).
 const FLOOR_MARK_BAND_M: std::ops::Range<f32> = 1.5..5.0;
 /// A floor mark's albedo (the floor's: 0.042–0.07).
 const FLOOR_MARK_ALBEDO: (f32, f32) = (0.1, 0.25);
