@@ -1,90 +1,25 @@
 //! Composes the stages: [`Odometry`] turns frames into poses; [`Pipeline`] adds the source.
 
+mod build;
+mod features;
 mod guarded;
 mod paced;
 mod per_image;
 mod prefetch;
+mod result;
 
 use std::time::Instant;
 
-use rayon::prelude::*;
-
+pub use build::build_source;
 pub use paced::Paced;
 pub use per_image::PerImage;
 pub use prefetch::Prefetched;
+pub use result::{FrameResult, StageTimings};
 
-use crate::config::{PipelineConfig, StageConfig};
-use crate::registry::Backends;
+use crate::config::PipelineConfig;
 use crate::stages::{Descriptor, Detector, Downsampler, ImageBuilder, ImageSource, Registrar};
-use crate::{BuildContext, ChannelFeatures, CoreError, FrameFeatures, LidarFrame, Pose, Registry};
-
-/// Seconds spent in each stage for one frame.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct StageTimings {
-    pub image: f64,
-    pub detect: f64,
-    pub describe: f64,
-    pub downsample: f64,
-    pub register: f64,
-}
-
-impl StageTimings {
-    /// Sum over stages.
-    pub fn total(&self) -> f64 {
-        self.image + self.detect + self.describe + self.downsample + self.register
-    }
-}
-
-/// The result of one frame.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FrameResult {
-    pub index: u64,
-    /// Time the pose refers to, seconds: the frame's end ([`LidarFrame::end_stamp`]), the same
-    /// whichever points the downsampler kept.
-    pub stamp: f64,
-    pub pose: Pose,
-    /// Keypoints found over all images.
-    pub keypoints: usize,
-    /// Points the downsampler passed to the registrar.
-    pub cloud_points: usize,
-    /// Points the registrar used after its own preprocessing.
-    pub registered_points: usize,
-    /// Points in the registrar's local map after this frame.
-    pub map_points: usize,
-    pub iterations: usize,
-    pub converged: bool,
-    /// The registrar's degeneracy analysis of this frame, when it makes one.
-    pub degeneracy: Option<crate::Degeneracy>,
-    /// Why the registration could not constrain the pose, when it could not (too few points,
-    /// a direction without information): the pose is then (partly) the prediction.
-    pub degenerate: Option<crate::Degenerate>,
-    /// How well the frame fits the prior map, when the registrar localises in one.
-    pub fit: Option<crate::MapFit>,
-    pub timings: StageTimings,
-}
-
-impl FrameResult {
-    /// The result of a frame whose pose came from elsewhere (ground truth, another odometry):
-    /// for a [`FrameResult`]-taking consumer such as a map builder; counts zero, no
-    /// degeneracy analysis.
-    pub fn with_pose(index: u64, stamp: f64, pose: Pose) -> Self {
-        Self {
-            index,
-            stamp,
-            pose,
-            keypoints: 0,
-            cloud_points: 0,
-            registered_points: 0,
-            map_points: 0,
-            iterations: 0,
-            converged: true,
-            degeneracy: None,
-            degenerate: None,
-            fit: None,
-            timings: StageTimings::default(),
-        }
-    }
-}
+use crate::{BuildContext, CoreError, FrameFeatures, LidarFrame, Pose, Registry};
+use build::{build_optional, build_stage};
 
 /// The per-frame stages, without a source: embed this to feed frames yourself.
 ///
@@ -103,33 +38,6 @@ pub struct Odometry {
     last_cloud: Option<crate::PointCloud>,
     /// Timestamp of the last registered frame: frames must come in time order.
     last_timestamp: Option<f64>,
-}
-
-fn build_stage<T: ?Sized + 'static>(
-    backends: &Backends<T>,
-    section: &str,
-    stage: &StageConfig,
-    ctx: &BuildContext,
-) -> Result<Box<T>, CoreError> {
-    let factory = backends.get(&stage.kind).ok_or_else(|| {
-        CoreError::stage(
-            section,
-            format!("backend `{}` is not registered", stage.kind),
-        )
-    })?;
-    factory.build(&stage.params, ctx)
-}
-
-pub(crate) fn build_optional<T: ?Sized + 'static>(
-    backends: &Backends<T>,
-    section: &str,
-    stage: &StageConfig,
-    ctx: &BuildContext,
-) -> Result<Option<Box<T>>, CoreError> {
-    if stage.is_none() {
-        return Ok(None);
-    }
-    build_stage(backends, section, stage, ctx).map(Some)
 }
 
 impl Odometry {
@@ -317,84 +225,6 @@ impl Odometry {
             message,
         })
     }
-
-    fn features(
-        &mut self,
-        frame: &LidarFrame,
-        timings: &mut StageTimings,
-    ) -> Result<FrameFeatures, CoreError> {
-        let mut features = FrameFeatures::default();
-        let Some(builder) = self.image.as_mut() else {
-            return Ok(features);
-        };
-        let t = Instant::now();
-        let images = builder.build(frame)?;
-        timings.image = t.elapsed().as_secs_f64();
-        if !self.checked_images {
-            self.check_image_names(&images)?;
-        }
-        let names: Vec<String> = images.iter().map(crate::Image::name).collect();
-        let parallel = images.len() > 1
-            && self.detector.has_own_instances(&names)
-            && self.descriptor.has_own_instances(&names);
-        let t = Instant::now();
-        let results: Vec<Result<Extracted, CoreError>> = if parallel {
-            let detectors = self.detector.instances_for(&names);
-            let descriptors = self.descriptor.instances_for(&names);
-            images
-                .into_par_iter()
-                .zip(detectors)
-                .zip(descriptors)
-                .map(|((image, det), desc)| extract(image, det, desc))
-                .collect()
-        } else {
-            images
-                .into_iter()
-                .map(|image| {
-                    let name = image.name();
-                    let det = self.detector.for_image(&name);
-                    extract_one(image, det, &mut self.descriptor, &name)
-                })
-                .collect()
-        };
-        let wall = t.elapsed().as_secs_f64();
-        let (mut detect, mut describe) = (0.0, 0.0);
-        for r in results {
-            let e = r?;
-            detect += e.detect_s;
-            describe += e.describe_s;
-            features.per_image.push(e.features);
-        }
-        // Images ran side by side: split the section's wall time in proportion.
-        let busy = detect + describe;
-        if busy > 0.0 {
-            timings.detect = wall * detect / busy;
-            timings.describe = wall * describe / busy;
-        }
-        Ok(features)
-    }
-
-    /// Every `by_image` override must name an image the image builder makes.
-    fn check_image_names(&mut self, images: &[crate::Image]) -> Result<(), CoreError> {
-        let names: Vec<String> = images.iter().map(crate::Image::name).collect();
-        let unknown = [
-            ("detector", self.detector.unknown_images(&names)),
-            ("descriptor", self.descriptor.unknown_images(&names)),
-        ];
-        for (section, list) in unknown {
-            if let Some(image) = list.first() {
-                return Err(CoreError::stage(
-                    section,
-                    format!(
-                        "`[{section}.by_image.{image}]` names no image; the image builder makes: {}",
-                        names.join(", ")
-                    ),
-                ));
-            }
-        }
-        self.checked_images = true;
-        Ok(())
-    }
 }
 
 /// A stage error of frame `index`, naming it (other errors already name what they concern).
@@ -406,63 +236,6 @@ fn in_frame(e: CoreError, index: u64) -> CoreError {
         },
         other => other,
     }
-}
-
-/// One image's keypoints and descriptors, with the seconds each step took.
-struct Extracted {
-    features: ChannelFeatures,
-    detect_s: f64,
-    describe_s: f64,
-}
-
-/// Detects (and describes) the keypoints of one image.
-fn extract(
-    image: crate::Image,
-    detector: Option<&mut (dyn Detector + 'static)>,
-    descriptor: Option<&mut (dyn Descriptor + 'static)>,
-) -> Result<Extracted, CoreError> {
-    let t = Instant::now();
-    let (mut keypoints, mut descriptors) = match detector {
-        Some(d) => d.detect_and_describe(&image)?,
-        None => (Vec::new(), None),
-    };
-    let detect_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    if let Some(d) = descriptor {
-        descriptors = Some(d.describe(&image, &mut keypoints)?);
-    }
-    Ok(Extracted {
-        features: ChannelFeatures {
-            image,
-            keypoints,
-            descriptors,
-        },
-        detect_s,
-        describe_s: t.elapsed().as_secs_f64(),
-    })
-}
-
-/// [`extract`] with the descriptor looked up by image name (sequential path).
-fn extract_one(
-    image: crate::Image,
-    detector: Option<&mut (dyn Detector + 'static)>,
-    descriptors: &mut PerImage<dyn Descriptor>,
-    name: &str,
-) -> Result<Extracted, CoreError> {
-    extract(image, detector, descriptors.for_image(name))
-}
-
-/// Builds only the source of a resolved config (for tools that read data without running
-/// odometry: `keylo info`, `keylo convert`).
-pub fn build_source(
-    config: &PipelineConfig,
-    registry: &Registry,
-) -> Result<Box<dyn ImageSource>, CoreError> {
-    let ctx = BuildContext {
-        base_dir: config.base_dir.clone(),
-        trust: config.trust,
-    };
-    build_stage(&registry.sources, "source", &config.source, &ctx)
 }
 
 /// A source plus the per-frame stages: iterate it to run odometry.

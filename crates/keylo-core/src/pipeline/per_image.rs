@@ -7,7 +7,7 @@ use crate::config::StageConfig;
 use crate::registry::Backends;
 use crate::{BuildContext, CoreError};
 
-use super::build_optional;
+use super::build::build_optional;
 
 /// The backend of a per-image stage (detector, descriptor) for each image name.
 pub struct PerImage<T: ?Sized> {
