@@ -2,25 +2,26 @@
 
 mod accuracy;
 mod args;
+mod out_dir;
+mod process;
 
-use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Instant;
 
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use keylo::config::{OnBadFrame, OnDegenerate, PipelineConfig};
+use keylo::config::PipelineConfig;
 use keylo::map::covariance::NoiseModel;
 use keylo::map::{MapBuilder, PoseGraph};
-use keylo::{CoreError, ImageSource, Paced, Pipeline, Prefetched, Trajectory};
+use keylo::{ImageSource, Paced, Pipeline, Prefetched};
 
 pub use args::RunArgs;
+use out_dir::output_dir;
+use process::{process_all, Outputs, RunState};
 
-use crate::degeneracy_out::{self, DegeneracyRow};
-use crate::degenerate_out::{self, DegenerateLog};
+use crate::degeneracy_out;
 use crate::journal::Journal;
 use crate::overlay::Pictures;
-use crate::report::{self, Failure, Summary, Totals};
+use crate::report::{self, Summary};
 use crate::{
     configs, resources, trajectories, view_out, EXIT_DEGENERATE, EXIT_FRAME_FAILED,
     EXIT_INTERRUPTED,
@@ -220,28 +221,6 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-#[derive(Default)]
-struct RunState {
-    trajectory: Trajectory,
-    totals: Totals,
-    skipped: usize,
-    failure: Option<Failure>,
-    interrupted: bool,
-    degeneracy: Vec<DegeneracyRow>,
-    degenerate: DegenerateLog,
-    /// Index of the first frame registered.
-    first_frame: Option<u64>,
-}
-
-/// Where each frame's results go besides the trajectory.
-struct Outputs<'a> {
-    journal: &'a mut Journal,
-    pictures: Option<&'a mut Pictures>,
-    map: Option<&'a mut MapBuilder>,
-    pose_graph: Option<&'a mut PoseGraph>,
-    view: Option<&'a mut view_out::Session>,
-}
-
 /// The pose graph `[output] pose_graph` asks for: keyframes as the map's (`settings`),
 /// covariances with `[output] covariance_sigma_m` or the registrar's fitted model.
 fn pose_graph_for(config: &PipelineConfig, settings: &keylo::map::MapConfig) -> Option<PoseGraph> {
@@ -270,197 +249,6 @@ fn write_map(out: &std::path::Path, odometry: &keylo::Odometry) -> Result<()> {
     )
 }
 
-fn process_all(
-    pipeline: &mut Pipeline,
-    config: &PipelineConfig,
-    progress: &ProgressBar,
-    outputs: &mut Outputs,
-    st: &mut RunState,
-) {
-    // Ctrl-C or SIGTERM: the run stops after the current frame and writes what it has.
-    crate::interrupt::install("Ctrl-C will not save partial results");
-    // Index of the next frame, for messages about a frame the source could not read.
-    let mut next = 0u64;
-    loop {
-        if crate::interrupt::requested() {
-            st.failure = Some(Failure {
-                frame: next,
-                error: "interrupted (Ctrl-C or SIGTERM)".into(),
-            });
-            st.interrupted = true;
-            break;
-        }
-        let frame = match pipeline.source.next_frame() {
-            None => break,
-            Some(Ok(f)) => f,
-            Some(Err(e)) => {
-                st.failure = Some(Failure {
-                    frame: next,
-                    error: e.to_string(),
-                });
-                break;
-            }
-        };
-        next = frame.index + 1;
-        let pictured = outputs
-            .pictures
-            .as_ref()
-            .is_some_and(|p| p.wants(frame.index));
-        let mapped = (outputs.map.as_ref()).is_some_and(|m| m.config().keyframe_features);
-        let viewed = outputs.view.is_some();
-        let t = Instant::now();
-        let result = pipeline
-            .odometry
-            .process_guarded(&frame, pictured || mapped || viewed);
-        let seconds = t.elapsed().as_secs_f64();
-        st.totals.odometry_seconds += seconds;
-        progress.inc(1);
-        match result {
-            Ok((r, features)) => {
-                if let Some(why) = r.degenerate {
-                    let name = frame_name(pipeline, frame.index);
-                    st.degenerate
-                        .record(frame.index, &name, why, r.cloud_points);
-                    if config.output.on_degenerate == OnDegenerate::Error {
-                        st.failure = Some(Failure {
-                            frame: frame.index,
-                            error: degenerate_out::stop_message(&why),
-                        });
-                        break;
-                    }
-                }
-                st.first_frame.get_or_insert(frame.index);
-                st.trajectory.push(r.stamp, r.pose);
-                st.totals.add(&r);
-                if let Some(fit) = r.fit.filter(|f| !f.tracking) {
-                    tracing::warn!(
-                        "{}: not tracking in the map (fitness {:.2}); its pose is not to be \
-                         trusted",
-                        frame_name(pipeline, frame.index),
-                        fit.fitness
-                    );
-                }
-                let row = report::FrameRow {
-                    frame: frame.index,
-                    stamp: r.stamp,
-                    keypoints: r.keypoints,
-                    cloud_points: r.cloud_points,
-                    registered_points: r.registered_points,
-                    map_points: r.map_points,
-                    odometry_ms: 1e3 * seconds,
-                    rss_mb: resources::rss_mb(),
-                    degenerate: r.degenerate.map(|d| d.label()),
-                };
-                if let Some(d) = r.degeneracy.clone() {
-                    tracing::debug!(
-                        "frame {}: condition {:.3e}, {} weak direction(s), weakest {:?}",
-                        frame.index,
-                        d.condition,
-                        d.weak,
-                        d.eigenvectors[0]
-                    );
-                    st.degeneracy.push(DegeneracyRow {
-                        frame: frame.index,
-                        degeneracy: d,
-                    });
-                }
-                let recorded = outputs
-                    .journal
-                    .record(r.stamp, &r.pose, &row)
-                    .and_then(|()| match (outputs.pictures.as_deref_mut(), &features) {
-                        (Some(p), Some(f)) if pictured => p.record(&pipeline.odometry, &frame, f),
-                        _ => Ok(()),
-                    })
-                    .map(|()| {
-                        if let Some(g) = outputs.pose_graph.as_deref_mut() {
-                            g.add(&r);
-                        }
-                    })
-                    .and_then(|()| match outputs.map.as_deref_mut() {
-                        Some(m) => m
-                            .add(&frame, &r, features.as_ref())
-                            .map(|_| ())
-                            .map_err(Into::into),
-                        None => Ok(()),
-                    });
-                if let Some(v) = outputs.view.as_deref_mut() {
-                    v.frame(&pipeline.odometry, &frame, &r, features.as_ref(), seconds);
-                }
-                if let Err(e) = recorded {
-                    st.failure = Some(Failure {
-                        frame: frame.index,
-                        error: crate::error_chain(&e),
-                    });
-                    break;
-                }
-            }
-            Err(e @ CoreError::BadFrame { .. })
-                if config.output.on_bad_frame == OnBadFrame::Skip =>
-            {
-                tracing::warn!("skipping {}: {e}", frame_name(pipeline, frame.index));
-                st.skipped += 1;
-            }
-            Err(e) => {
-                let error = match pipeline.source.frame_origin(frame.index) {
-                    Some(file) => format!("{e} (file {file})"),
-                    None => e.to_string(),
-                };
-                st.failure = Some(Failure {
-                    frame: frame.index,
-                    error,
-                });
-                break;
-            }
-        }
-    }
-}
-
-/// "frame N" and, when the source reads one file per frame, "(FILE)".
-fn frame_name(pipeline: &Pipeline, index: u64) -> String {
-    match pipeline.source.frame_origin(index) {
-        Some(file) => format!("frame {index} ({file})"),
-        None => format!("frame {index}"),
-    }
-}
-
-fn output_dir(args: &RunArgs, config: &PipelineConfig) -> Result<PathBuf> {
-    let dir = match (&args.out, config.output.dir_path()) {
-        (Some(d), _) => d.clone(),
-        (None, Some(d)) => config.base_dir.join(d),
-        (None, None) => {
-            let secs = std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(0, |d| d.as_secs());
-            PathBuf::from("runs").join(timestamp_name(secs))
-        }
-    };
-    std::fs::create_dir_all(&dir)
-        .with_context(|| format!("creating output directory {}", dir.display()))?;
-    Ok(dir)
-}
-
-/// `YYYYMMDD-HHMMSS` (UTC) of a Unix time.
-fn timestamp_name(secs: u64) -> String {
-    let days = secs / 86_400;
-    let rem = secs % 86_400;
-    // civil-from-days (Howard Hinnant's algorithm)
-    let z = days as i64 + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    let y = yoe + era * 400 + i64::from(m <= 2);
-    format!(
-        "{y:04}{m:02}{d:02}-{:02}{:02}{:02}",
-        rem / 3600,
-        (rem / 60) % 60,
-        rem % 60
-    )
-}
-
 fn progress_bar(len: Option<usize>, quiet: bool) -> ProgressBar {
     if quiet {
         return ProgressBar::hidden();
@@ -473,13 +261,4 @@ fn progress_bar(len: Option<usize>, quiet: bool) -> ProgressBar {
         .unwrap_or_else(|_| ProgressStyle::default_bar());
     bar.set_style(style);
     bar
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn timestamps_are_civil_dates() {
-        assert_eq!(super::timestamp_name(0), "19700101-000000");
-        assert_eq!(super::timestamp_name(1_795_000_000), "20261118-110640");
-    }
 }
