@@ -2,204 +2,25 @@
 //! combination; per-cell means kept in a CSV that is appended as cells finish, so a stopped
 //! sweep resumes where it was; optima per metric and overall.
 
+mod grid;
+mod store;
+
 use std::collections::BTreeSet;
 use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::path::PathBuf;
 use std::time::Instant;
 
 use keylo_core::{BuildContext, Registry};
-use keylo_features::image::Interpolation;
 use rayon::prelude::*;
-use serde::Serialize;
 
 pub use crate::spec::{interpolation_name, parse_interpolation};
+pub use grid::{parse_sizes, Cell, SweepGrid, INTERPOLATIONS};
+pub use store::{csv_header, read_store, sort_results, CellResult};
 
 use crate::runner::run_group;
 use crate::stages::{build_groups, Skipped};
-use crate::{summarise, Combo, EvalSpec, KpEvalError, Plane, METRICS};
-
-/// The five interpolations, in the paper's order.
-pub const INTERPOLATIONS: [Interpolation; 5] = [
-    Interpolation::Cubic,
-    Interpolation::Lanczos4,
-    Interpolation::Area,
-    Interpolation::Nearest,
-    Interpolation::Linear,
-];
-
-/// Sizes from `MIN:MAX:STEP` or a comma-separated list; `what` names the option in errors.
-pub fn parse_sizes(spec: &str, what: &str) -> Result<Vec<usize>, KpEvalError> {
-    let bad = |m: String| KpEvalError::setting("sweep", what, format!("`{spec}`: {m}"));
-    let num = |s: &str| {
-        s.trim()
-            .parse::<usize>()
-            .ok()
-            .filter(|v| *v > 0)
-            .ok_or_else(|| bad(format!("`{s}` is not a positive whole number")))
-    };
-    let out: Vec<usize> = if spec.contains(':') {
-        let parts: Vec<&str> = spec.split(':').collect();
-        let [lo, hi, step] = parts.as_slice() else {
-            return Err(bad("expected MIN:MAX:STEP".into()));
-        };
-        let (lo, hi, step) = (num(lo)?, num(hi)?, num(step)?);
-        if lo > hi {
-            return Err(bad("MIN is above MAX".into()));
-        }
-        (lo..=hi).step_by(step).collect()
-    } else {
-        spec.split(',').map(num).collect::<Result<_, _>>()?
-    };
-    if out.is_empty() {
-        return Err(bad("no size".into()));
-    }
-    Ok(out)
-}
-
-/// One preprocessing setting.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Cell {
-    pub interpolation: Interpolation,
-    pub width: usize,
-    pub height: usize,
-}
-
-impl Cell {
-    fn key(&self) -> (String, usize, usize) {
-        (
-            interpolation_name(self.interpolation),
-            self.width,
-            self.height,
-        )
-    }
-}
-
-/// The axes of a sweep.
-#[derive(Debug, Clone)]
-pub struct SweepGrid {
-    pub interpolations: Vec<Interpolation>,
-    pub widths: Vec<usize>,
-    pub heights: Vec<usize>,
-}
-
-impl Default for SweepGrid {
-    /// The paper's grid: 5 interpolations × widths 512–4096 step 128 × heights 32–256 step 32.
-    fn default() -> Self {
-        Self {
-            interpolations: INTERPOLATIONS.to_vec(),
-            widths: (512..=4096).step_by(128).collect(),
-            heights: (32..=256).step_by(32).collect(),
-        }
-    }
-}
-
-impl SweepGrid {
-    /// Every cell, interpolation-major as in Algorithm 1.
-    pub fn cells(&self) -> Vec<Cell> {
-        let mut out = Vec::new();
-        for &interpolation in &self.interpolations {
-            for &width in &self.widths {
-                for &height in &self.heights {
-                    out.push(Cell {
-                        interpolation,
-                        width,
-                        height,
-                    });
-                }
-            }
-        }
-        out
-    }
-}
-
-/// The mean of every metric for one combination in one cell.
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
-pub struct CellResult {
-    pub interpolation: String,
-    pub width: usize,
-    pub height: usize,
-    pub combo: String,
-    pub images: usize,
-    /// `(metric key, mean)`, in [`METRICS`] order; metrics without a value are absent.
-    pub means: Vec<(String, f64)>,
-}
-
-impl CellResult {
-    /// The mean of metric `key`.
-    pub fn mean(&self, key: &str) -> Option<f64> {
-        self.means.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
-    }
-
-    /// The CSV fields, in [`csv_header`] order.
-    fn record(&self) -> Vec<String> {
-        let mut fields = vec![
-            self.interpolation.clone(),
-            self.width.to_string(),
-            self.height.to_string(),
-            self.combo.clone(),
-            self.images.to_string(),
-        ];
-        for m in METRICS {
-            fields.push(self.mean(m.key).map_or_else(String::new, |v| v.to_string()));
-        }
-        fields
-    }
-
-    /// A record read back; `None` for one cut short (a kill mid-write) or unreadable.
-    fn from_record(f: &[String]) -> Option<Self> {
-        if f.len() != 5 + METRICS.len() {
-            return None;
-        }
-        let means = METRICS
-            .iter()
-            .zip(&f[5..])
-            .filter_map(|(m, v)| v.parse::<f64>().ok().map(|v| (m.key.to_string(), v)))
-            .collect();
-        Some(Self {
-            interpolation: f[0].clone(),
-            width: f[1].parse().ok()?,
-            height: f[2].parse().ok()?,
-            combo: f[3].clone(),
-            images: f[4].parse().ok()?,
-            means,
-        })
-    }
-}
-
-/// The columns of the sweep CSV.
-pub fn csv_header() -> Vec<String> {
-    let mut h: Vec<String> = ["interpolation", "width", "height", "combo", "images"]
-        .map(String::from)
-        .to_vec();
-    h.extend(METRICS.iter().map(|m| m.key.to_string()));
-    h
-}
-
-/// Results found in an earlier sweep's CSV (a missing file: none). A file with another
-/// header is refused rather than mixed with.
-pub fn read_store(path: &Path) -> Result<Vec<CellResult>, KpEvalError> {
-    if !path.exists() || std::fs::metadata(path).is_ok_and(|m| m.len() == 0) {
-        return Ok(Vec::new());
-    }
-    let (header, records) = keylo_io::csv_table::read(path).map_err(|e| KpEvalError::Format {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
-    if header != csv_header() {
-        return Err(KpEvalError::Format {
-            path: path.to_path_buf(),
-            message: "not a keylo sweep CSV of this version (header differs): \
-                      use another --out or delete it"
-                .into(),
-        });
-    }
-    // A record cut short by a kill mid-write is ignored (that cell is run again).
-    Ok(records
-        .iter()
-        .filter_map(|r| CellResult::from_record(r))
-        .collect())
-}
+use crate::{summarise, Combo, EvalSpec, KpEvalError, Plane};
+use store::open_store;
 
 /// How a sweep runs.
 pub struct SweepOptions<'a> {
@@ -429,34 +250,4 @@ pub fn run_sweep(
     result.images_evaluated = images.into_inner();
     result.seconds = start.elapsed().as_secs_f64();
     Ok(result)
-}
-
-/// Results in cell order (interpolations in the paper's order, then width, height, and
-/// combination name), the order of [`SweepResult::results`].
-pub fn sort_results(results: &mut [CellResult]) {
-    let order = |r: &CellResult| {
-        let i = INTERPOLATIONS
-            .iter()
-            .position(|x| interpolation_name(*x) == r.interpolation)
-            .unwrap_or(usize::MAX);
-        (i, r.width, r.height, r.combo.clone())
-    };
-    results.sort_by_key(order);
-}
-
-fn open_store(path: &Path, fresh: bool) -> Result<Mutex<std::fs::File>, KpEvalError> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| KpEvalError::io(dir, e))?;
-    }
-    let mut f = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(path)
-        .map_err(|e| KpEvalError::io(path, e))?;
-    if fresh {
-        f.set_len(0).map_err(|e| KpEvalError::io(path, e))?;
-        f.write_all(keylo_io::csv_table::line(csv_header()).as_bytes())
-            .map_err(|e| KpEvalError::io(path, e))?;
-    }
-    Ok(Mutex::new(f))
 }
