@@ -16,6 +16,7 @@ mod inbox;
 pub mod msgs;
 mod outputs;
 mod prior;
+mod publish;
 mod runner;
 mod source_input;
 
