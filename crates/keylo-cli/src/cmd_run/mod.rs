@@ -2,10 +2,13 @@
 
 mod accuracy;
 mod args;
+mod finish;
 mod out_dir;
 mod process;
 
 use std::process::ExitCode;
+use std::sync::atomic::AtomicU64;
+use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -22,10 +25,7 @@ use crate::degeneracy_out;
 use crate::journal::Journal;
 use crate::overlay::Pictures;
 use crate::report::{self, Summary};
-use crate::{
-    configs, resources, trajectories, view_out, EXIT_DEGENERATE, EXIT_FRAME_FAILED,
-    EXIT_INTERRUPTED,
-};
+use crate::{configs, resources, trajectories, view_out};
 
 pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     let mut registry = keylo::registry();
@@ -55,18 +55,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     std::fs::write(out.join("config.toml"), &resolved)
         .with_context(|| format!("writing {}", out.join("config.toml").display()))?;
     let Pipeline { source, odometry } = Pipeline::build(&config, &registry)?;
-    let source: Box<dyn ImageSource> = match args.prefetch {
-        0 => source,
-        n => Box::new(Prefetched::new(source, usize::from(n))?),
-    };
-    let (source, late): (Box<dyn ImageSource>, _) = match args.realtime {
-        Some(speed) => {
-            let paced = Paced::new(source, speed).context("--realtime")?;
-            let late = paced.late_frames();
-            (Box::new(paced), Some(late))
-        }
-        None => (source, None),
-    };
+    let (source, late) = wrap_source(source, &args)?;
     let mut pipeline = Pipeline { source, odometry };
     let info = pipeline.source.info();
     tracing::info!("source: {}; output: {}", info.description, out.display());
@@ -111,15 +100,7 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
     // The map holds the frames done, also when the run stopped early.
     let map = map.map(MapBuilder::finish).transpose()?;
     if let Some(g) = &pose_graph {
-        g.write(&out.join("pose_graph.g2o"))?;
-        if g.fallbacks > 0 {
-            tracing::warn!(
-                "pose_graph.g2o: {} frame(s) had no covariance estimate; their edges use the \
-                 fallback variance {}",
-                g.fallbacks,
-                keylo::map::FALLBACK_VARIANCE
-            );
-        }
+        finish::write_pose_graph(g, &out)?;
     }
     let (wall_hz, cpu_percent) = clock.rates(outcome.totals.frames);
     // After the rates: closing lets the viewers' queues drain (a fixed pause, not the frames'
@@ -179,46 +160,35 @@ pub fn run(args: RunArgs, quiet: bool) -> Result<ExitCode> {
         println!("keylo run — {} → {}", summary.source, out.display());
         print!("{}", report::table(&summary));
     }
-    // A recording that could not be closed is said first and exits 1, unless the run itself
-    // has a more telling status.
-    if let Some(e) = &view_error {
-        eprintln!(
-            "error: {e:#}\n       the run's results are written to {}",
-            out.display()
-        );
-    }
-    if let Some(f) = &summary.failed {
-        eprintln!(
-            "error: stopped at frame {}: {}\n       the {} frames done before it are written to {}",
-            f.frame,
-            f.error,
-            summary.frames,
-            out.display()
-        );
-        let code = if outcome.interrupted {
-            EXIT_INTERRUPTED
-        } else {
-            EXIT_FRAME_FAILED
-        };
-        return Ok(ExitCode::from(code));
-    }
-    if let Some(line) = outcome.degenerate.closing(summary.frames) {
-        tracing::warn!("{line}");
-    }
-    if summary.all_degenerate {
-        eprintln!(
-            "error: no frame of the {} was registered with all six pose directions constrained \
-             (every frame after the first degenerate): the trajectory is the motion model's \
-             prediction, not odometry (written to {} all the same)",
-            summary.frames,
-            out.display()
-        );
-        return Ok(ExitCode::from(EXIT_DEGENERATE));
-    }
-    if view_error.is_some() {
-        return Ok(ExitCode::FAILURE);
-    }
-    Ok(ExitCode::SUCCESS)
+    Ok(finish::exit_status(
+        &summary,
+        (outcome.interrupted, &outcome.degenerate),
+        view_error.as_ref(),
+        &out,
+    ))
+}
+
+/// How many frames `--realtime` released late (its [`Paced`] source counts them).
+type LateFrames = Arc<AtomicU64>;
+
+/// The source as the options ask for it: read ahead on a thread (`--prefetch`), released at
+/// the sensor's rate (`--realtime`, with its count of frames that came late).
+fn wrap_source(
+    source: Box<dyn ImageSource>,
+    args: &RunArgs,
+) -> Result<(Box<dyn ImageSource>, Option<LateFrames>)> {
+    let source: Box<dyn ImageSource> = match args.prefetch {
+        0 => source,
+        n => Box::new(Prefetched::new(source, usize::from(n))?),
+    };
+    Ok(match args.realtime {
+        Some(speed) => {
+            let paced = Paced::new(source, speed).context("--realtime")?;
+            let late = paced.late_frames();
+            (Box::new(paced), Some(late))
+        }
+        None => (source, None),
+    })
 }
 
 /// The pose graph `[output] pose_graph` asks for: keyframes as the map's (`settings`),
