@@ -1,20 +1,19 @@
 //! `keylo ros2`: the pipeline of a config as a ROS 2 node (crate keylo-ros2), until Ctrl-C,
 //! SIGTERM or `--idle-timeout`; with `--out`, the files `keylo run` writes.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use keylo::config::OnDegenerate;
 use keylo::{Odometry, Trajectory};
 use keylo_ros2::{Ros2Config, Ros2Node};
 
 use crate::degenerate_out::DegenerateLog;
-use crate::journal::Journal;
 use crate::report::{self, Summary, Totals};
+use crate::ros2_files::NodeFiles;
 use crate::ros2_map::NodeMap;
 use crate::{configs, resources, view_out};
 
@@ -61,32 +60,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     };
     let mut odometry = Odometry::build(&config, &registry)?;
     let resolved = keylo::config::render_resolved(&config, &registry);
-    let mut journal = match &args.out {
-        Some(dir) => {
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("creating output directory {}", dir.display()))?;
-            std::fs::write(dir.join("config.toml"), &resolved)
-                .with_context(|| format!("writing {}", dir.join("config.toml").display()))?;
-            Some(Journal::create(dir, &config.output)?)
-        }
-        None => None,
-    };
-    // Per frame: the odometry message's stamp and how long the node held the cloud.
-    let mut latency = match &args.out {
-        Some(dir) => {
-            let path = dir.join("ros2_frames.csv");
-            let mut f = std::io::BufWriter::new(
-                std::fs::File::create(&path)
-                    .with_context(|| format!("creating {}", path.display()))?,
-            );
-            writeln!(
-                f,
-                "frame,stamp_ns,odometry_ms,in_node_ms,waited_ms,prepare_ms,publish_ms"
-            )?;
-            Some(f)
-        }
-        None => None,
-    };
+    let mut files = NodeFiles::create(args.out.as_deref(), &resolved, &config.output)?;
     // A live sensor named by the config's [source] feeds the node instead of the points topic.
     let source = match config.source.kind.as_str() {
         "ouster-udp" => Some(keylo::build_source(&config, &registry)?),
@@ -103,7 +77,6 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
     let clock = resources::RunClock::start();
     let mut totals = Totals::default();
     let mut trajectory = Trajectory::default();
-    let mut write_error: Option<anyhow::Error> = None;
     let mut degenerate = DegenerateLog::default();
     let on_frame = |p: &keylo_ros2::Published| {
         totals.add(p.result);
@@ -124,41 +97,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
             v.frame(p.odometry, p.frame, p.result, p.features, p.seconds);
         }
         trajectory.push(p.result.stamp, p.result.pose);
-        if let (Some(f), None) = (latency.as_mut(), &write_error) {
-            let line = writeln!(
-                f,
-                "{},{},{:.3},{:.3},{:.3},{:.3},{:.3}",
-                p.result.index,
-                p.stamp_ns,
-                1e3 * p.seconds,
-                1e3 * p.in_node_seconds,
-                1e3 * p.waited_seconds,
-                1e3 * p.prepare_seconds,
-                1e3 * p.publish_seconds
-            )
-            .and_then(|()| f.flush());
-            if let Err(e) = line {
-                tracing::error!("writing ros2_frames.csv failed: {e}; the node goes on");
-                write_error = Some(e.into());
-            }
-        }
-        if let (Some(j), None) = (journal.as_mut(), &write_error) {
-            let row = report::FrameRow {
-                frame: p.result.index,
-                stamp: p.result.stamp,
-                keypoints: p.result.keypoints,
-                cloud_points: p.result.cloud_points,
-                registered_points: p.result.registered_points,
-                map_points: p.result.map_points,
-                odometry_ms: 1e3 * p.seconds,
-                rss_mb: resources::rss_mb(),
-                degenerate: p.result.degenerate.map(|d| d.label()),
-            };
-            if let Err(e) = j.record(p.result.stamp, &p.result.pose, &row) {
-                tracing::error!("writing the run's files failed: {e:#}; the node goes on");
-                write_error = Some(e);
-            }
-        }
+        files.record(p);
     };
     let (stats, counters) = match source {
         Some(source) => {
@@ -221,7 +160,7 @@ pub fn run(args: Ros2Args, quiet: bool) -> Result<ExitCode> {
         summary.set_degenerate(&degenerate);
         report::write_summary(dir, &summary)?;
     }
-    drop(journal);
+    let write_error = files.finish();
     if let Some(e) = view_error {
         eprintln!("error: {e:#} (the node's own files are written)");
         return Ok(ExitCode::FAILURE);

@@ -31,6 +31,7 @@ mod report;
 mod report_page;
 mod resources;
 #[cfg(feature = "ros2")]
+mod ros2_files;
 mod ros2_map;
 mod shard;
 mod trajectories;
