@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::align::{Cost, GicpSettings};
 use crate::degeneracy::DegeneracyConfig;
-use crate::error::{check, check_range_limits};
+use crate::error::{check, check_frame_step, check_range_limits, check_voxel_map};
 use crate::RegistrationError;
 
 /// What each frame is registered against.
@@ -199,30 +199,8 @@ impl GicpConfig {
             self.voxel_size,
             "expected 0 < voxel_size <= 1000 m (0, no filter, only in frame-to-frame mode)",
         )?;
-        check(
-            (1..=10_000).contains(&self.max_points_per_voxel),
-            "max_points_per_voxel",
-            self.max_points_per_voxel,
-            "expected 1..=10000",
-        )?;
-        check(
-            self.min_motion_th.is_finite() && (0.0..=1e3).contains(&self.min_motion_th),
-            "min_motion_th",
-            self.min_motion_th,
-            "expected 0 <= min_motion_th <= 1000 m",
-        )?;
-        check(
-            self.max_motion_per_frame.is_finite() && self.max_motion_per_frame >= 0.0,
-            "max_motion_per_frame",
-            self.max_motion_per_frame,
-            "expected 0 (no guard) or a positive distance in m",
-        )?;
-        check(
-            self.max_num_threads <= 1024,
-            "max_num_threads",
-            self.max_num_threads,
-            "expected 0 (automatic) ..= 1024",
-        )?;
+        check_voxel_map(self.max_points_per_voxel, self.min_motion_th)?;
+        check_frame_step(self.max_motion_per_frame, self.max_num_threads)?;
         self.degeneracy.validate()
     }
 }

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::degeneracy::DegeneracyConfig;
-use crate::error::{check, check_range_limits};
+use crate::error::{check, check_frame_step, check_range_limits, check_voxel_map};
 use crate::RegistrationError;
 
 /// `[registrar] kind = "kiss-icp"`: parameters and defaults of upstream KISS-ICP.
@@ -108,22 +108,10 @@ impl KissIcpConfig {
             "expected 0 (= max_range/100) or 0 < voxel_size <= 1000 m",
         )?;
         check(
-            (1..=10_000).contains(&self.max_points_per_voxel),
-            "max_points_per_voxel",
-            self.max_points_per_voxel,
-            "expected 1..=10000",
-        )?;
-        check(
             in_range(self.initial_threshold, 1e3),
             "initial_threshold",
             self.initial_threshold,
             "expected 0 < initial_threshold <= 1000 m",
-        )?;
-        check(
-            self.min_motion_th.is_finite() && (0.0..=1e3).contains(&self.min_motion_th),
-            "min_motion_th",
-            self.min_motion_th,
-            "expected 0 <= min_motion_th <= 1000 m",
         )?;
         check(
             zero_or(self.fixed_threshold, 1e3),
@@ -149,18 +137,8 @@ impl KissIcpConfig {
             self.convergence_criterion,
             "expected 0 < convergence_criterion <= 1",
         )?;
-        check(
-            self.max_num_threads <= 1024,
-            "max_num_threads",
-            self.max_num_threads,
-            "expected 0 (automatic) ..= 1024",
-        )?;
-        check(
-            self.max_motion_per_frame.is_finite() && self.max_motion_per_frame >= 0.0,
-            "max_motion_per_frame",
-            self.max_motion_per_frame,
-            "expected >= 0 (0 = no guard)",
-        )?;
+        check_voxel_map(self.max_points_per_voxel, self.min_motion_th)?;
+        check_frame_step(self.max_motion_per_frame, self.max_num_threads)?;
         self.degeneracy.validate()
     }
 }

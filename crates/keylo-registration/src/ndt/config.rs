@@ -6,7 +6,7 @@ use super::align::AlignSettings;
 use super::neighbours::NeighbourSearch;
 use super::voxel_grid::GridSettings;
 use crate::degeneracy::DegeneracyConfig;
-use crate::error::{check, check_range_limits};
+use crate::error::{check, check_frame_step, check_range_limits};
 use crate::RegistrationError;
 
 /// `[registrar] kind = "ndt"`: PCL's `NormalDistributionsTransform` (defaults of PCL 1.13
@@ -207,18 +207,7 @@ impl NdtConfig {
             self.local_map_keyframes,
             "expected 1..=10000",
         )?;
-        check(
-            self.max_motion_per_frame.is_finite() && self.max_motion_per_frame >= 0.0,
-            "max_motion_per_frame",
-            self.max_motion_per_frame,
-            "expected >= 0 (0 = no guard)",
-        )?;
-        check(
-            self.max_num_threads <= 1024,
-            "max_num_threads",
-            self.max_num_threads,
-            "expected 0 (automatic) ..= 1024",
-        )?;
+        check_frame_step(self.max_motion_per_frame, self.max_num_threads)?;
         self.degeneracy.validate()
     }
 }
