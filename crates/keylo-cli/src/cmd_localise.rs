@@ -92,11 +92,22 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     // Ctrl-C or SIGTERM: stop after the current frame, write what is done, close the
     // recording.
     crate::interrupt::install("Ctrl-C will not save partial results");
+    // A frame the source cannot read stops the run; the frames before it are kept, as in
+    // `keylo run`: (its index, the error).
+    let mut failure: Option<(u64, String)> = None;
+    let mut next = 0u64;
     while let Some(frame) = source.next_frame() {
         if crate::interrupt::requested() {
             break;
         }
-        let frame = frame?;
+        let frame = match frame {
+            Ok(f) => f,
+            Err(e) => {
+                failure = Some((next, e.to_string()));
+                break;
+            }
+        };
+        next = frame.index + 1;
         let t = std::time::Instant::now();
         let l = localiser.localise(&frame);
         let s = t.elapsed().as_secs_f64();
@@ -154,9 +165,18 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
             args.out.display()
         );
     }
-    if let Some(e) = view_error {
+    // A recording that could not be closed is said first and exits 1, unless the run itself
+    // has a more telling status (a frame that could not be read, an interruption).
+    if let Some(e) = &view_error {
         eprintln!("error: {e:#} (trajectory.tum and localise.csv are written)");
-        return Ok(ExitCode::FAILURE);
+    }
+    if let Some((frame, e)) = failure {
+        eprintln!(
+            "error: stopped at frame {frame}: {e}\n       the {n} frames done before it are \
+             written to {}",
+            args.out.display()
+        );
+        return Ok(ExitCode::from(crate::EXIT_FRAME_FAILED));
     }
     if crate::interrupt::requested() {
         eprintln!(
@@ -164,6 +184,9 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
             args.out.display()
         );
         return Ok(ExitCode::from(crate::EXIT_INTERRUPTED));
+    }
+    if view_error.is_some() {
+        return Ok(ExitCode::FAILURE);
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -184,4 +184,40 @@ fn a_run_is_localised_in_its_own_map_and_bad_poses_are_refused() {
     expect_failure(&o, 2, "localise.min_fitness = 2: expected 0..=1");
     let o = keylo_line("localise nowhere --data data --out x", dir.path());
     expect_failure(&o, 2, "nowhere: no such map folder");
+
+    // A frame the source cannot read stops the run as `keylo run` stops: exit 3, the
+    // frames before it kept in trajectory.tum and localise.csv.
+    let cut = dir.path().join("cut");
+    std::fs::create_dir_all(cut.join("frames")).unwrap();
+    for entry in std::fs::read_dir(dir.path().join("data")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_file() {
+            std::fs::copy(&path, cut.join(path.file_name().unwrap())).unwrap();
+        }
+    }
+    for entry in std::fs::read_dir(dir.path().join("data/frames")).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, cut.join("frames").join(path.file_name().unwrap())).unwrap();
+    }
+    let bad_frame = std::fs::File::options()
+        .write(true)
+        .open(cut.join("frames/000006.klf"))
+        .unwrap();
+    bad_frame.set_len(100).unwrap();
+    let o = keylo_line(
+        "localise map --data cut --out cut-loc --set localise.voxel_size=0.3",
+        dir.path(),
+    );
+    expect_failure(&o, 3, "stopped at frame 6: ");
+    assert!(
+        common::stderr(&o).contains("the 6 frames done before it are written to cut-loc"),
+        "{}",
+        common::stderr(&o)
+    );
+    assert_eq!(
+        common::read_csv(&dir.path().join("cut-loc/localise.csv")).len(),
+        6
+    );
+    let tum = std::fs::read_to_string(dir.path().join("cut-loc/trajectory.tum")).unwrap();
+    assert_eq!(tum.lines().filter(|l| !l.starts_with('#')).count(), 6);
 }
