@@ -70,6 +70,43 @@ fn table<K: std::fmt::Display>(title: &str, groups: &[(K, Vec<&CellResult>)]) ->
     out
 }
 
+/// The optimum cell per metric and overall (the paper's criterion), as a Markdown table and
+/// as JSON (`metric → {cell, value}`).
+fn optima(
+    by_cell: &[(String, Vec<&CellResult>)],
+) -> (String, serde_json::Map<String, serde_json::Value>) {
+    let mut md = String::from("### Optimum per metric (mean over the combinations)\n\n| metric | best cell | value |\n|---|---|---:|\n");
+    let mut optima = serde_json::Map::new();
+    for m in METRICS {
+        let best = by_cell
+            .iter()
+            .filter_map(|(c, rs)| mean_of(rs, m.key).map(|v| (c, v)))
+            .fold(None, |acc: Option<(&String, f64)>, (c, v)| match acc {
+                Some((_, b)) if !better(m, v, b) => acc,
+                _ => Some((c, v)),
+            });
+        if let Some((c, v)) = best {
+            let _ = writeln!(md, "| {} | {c} | {v:.4} |", m.key);
+            optima.insert(m.key.into(), serde_json::json!({"cell": c, "value": v}));
+        }
+    }
+    let best_overall = by_cell
+        .iter()
+        .filter_map(|(c, rs)| overall(rs).map(|v| (c, v)))
+        .fold(None, |acc: Option<(&String, f64)>, (c, v)| match acc {
+            Some((_, b)) if v <= b => acc,
+            _ => Some((c, v)),
+        });
+    if let Some((c, v)) = best_overall {
+        let _ = writeln!(
+            md,
+            "| **overall** (mean of distinctiveness and match score, the paper's criterion) | **{c}** | {v:.4} |"
+        );
+        optima.insert("overall".into(), serde_json::json!({"cell": c, "value": v}));
+    }
+    (md, optima)
+}
+
 /// What a sweep's tables and plots are made of (one process's, or merged shards').
 pub(crate) struct SweepReport<'a> {
     pub grid: &'a SweepGrid,
@@ -105,35 +142,8 @@ pub(crate) fn write_report(
         result.seconds,
         result.images_evaluated as f64 / result.seconds.max(1e-9)
     );
-    md.push_str("### Optimum per metric (mean over the combinations)\n\n| metric | best cell | value |\n|---|---|---:|\n");
-    let mut optima = serde_json::Map::new();
-    for m in METRICS {
-        let best = by_cell
-            .iter()
-            .filter_map(|(c, rs)| mean_of(rs, m.key).map(|v| (c, v)))
-            .fold(None, |acc: Option<(&String, f64)>, (c, v)| match acc {
-                Some((_, b)) if !better(m, v, b) => acc,
-                _ => Some((c, v)),
-            });
-        if let Some((c, v)) = best {
-            let _ = writeln!(md, "| {} | {c} | {v:.4} |", m.key);
-            optima.insert(m.key.into(), serde_json::json!({"cell": c, "value": v}));
-        }
-    }
-    let best_overall = by_cell
-        .iter()
-        .filter_map(|(c, rs)| overall(rs).map(|v| (c, v)))
-        .fold(None, |acc: Option<(&String, f64)>, (c, v)| match acc {
-            Some((_, b)) if v <= b => acc,
-            _ => Some((c, v)),
-        });
-    if let Some((c, v)) = best_overall {
-        let _ = writeln!(
-            md,
-            "| **overall** (mean of distinctiveness and match score, the paper's criterion) | **{c}** | {v:.4} |"
-        );
-        optima.insert("overall".into(), serde_json::json!({"cell": c, "value": v}));
-    }
+    let (optimum_table, optima) = optima(&by_cell);
+    md.push_str(&optimum_table);
     md.push_str(&table(
         "By interpolation (mean over sizes and combinations)",
         &group_by(&result.results, |r| r.interpolation.clone()),
