@@ -131,7 +131,7 @@ pub fn run_sweep(
     crate::runner::check_planes(planes)?;
     let start = Instant::now();
     let earlier = read_store(&opts.store)?;
-    let done: BTreeSet<((String, usize, usize), String)> = earlier
+    let done: DoneSet = earlier
         .iter()
         .map(|r| {
             (
@@ -144,27 +144,7 @@ pub fn run_sweep(
     let cells = grid.cells();
     let (group_combos, skipped) =
         group_combos(combos, spec, grid, (registry, ctx), opts.skip_unavailable)?;
-    let mut tasks = Vec::new();
-    let mut resumed = 0;
-    for cell in &cells {
-        for gc in &group_combos {
-            let detector = gc.first().map_or("", |c| c.detector.as_str());
-            if opts
-                .only
-                .is_some_and(|only| !only.contains(&task_id(cell, detector)))
-            {
-                continue;
-            }
-            if gc
-                .iter()
-                .all(|c| done.contains(&(cell.key(), c.name.clone())))
-            {
-                resumed += 1;
-            } else {
-                tasks.push((*cell, gc.clone()));
-            }
-        }
-    }
+    let (tasks, resumed) = plan_tasks(&cells, &group_combos, &done, opts.only);
     let store = open_store(&opts.store, earlier.is_empty())?;
     let total = tasks.len() + resumed;
     let finished = std::sync::atomic::AtomicUsize::new(resumed);
@@ -177,37 +157,8 @@ pub fn run_sweep(
                 e.to_string(),
             )
         };
-        let mut cell_spec = spec.clone();
-        cell_spec.image.width = cell.width;
-        cell_spec.image.height = cell.height;
-        cell_spec.image.interpolation = cell.interpolation;
-        let (groups, _) = build_groups(
-            gc,
-            &cell_spec,
-            registry,
-            ctx,
-            (cell.width, cell.height),
-            false,
-        )
-        .map_err(|e| what(&e))?;
-        let mut out = Vec::new();
-        for g in groups {
-            let (rows, failure) = run_group(g, planes, &cell_spec, &|| {}, 0);
-            if let Some((_, e)) = failure {
-                return Err(what(&e));
-            }
-            images.fetch_add(rows.len(), std::sync::atomic::Ordering::Relaxed);
-            for s in summarise(&rows) {
-                out.push(CellResult {
-                    interpolation: interpolation_name(cell.interpolation),
-                    width: cell.width,
-                    height: cell.height,
-                    combo: s.combo.clone(),
-                    images: s.images,
-                    means: s.metrics.iter().map(|(k, q)| (k.clone(), q.mean)).collect(),
-                });
-            }
-        }
+        let out = evaluate_cell(cell, gc, (spec, registry, ctx), planes, &images)
+            .map_err(|e| what(&e))?;
         if let Ok(mut f) = store.lock() {
             let text: String = out
                 .iter()
@@ -250,4 +201,80 @@ pub fn run_sweep(
     result.images_evaluated = images.into_inner();
     result.seconds = start.elapsed().as_secs_f64();
     Ok(result)
+}
+
+/// The tasks to run now, (cell, detector group) in cell order, and how many are resumed (every
+/// combination of theirs found `done` in the store); with `only`, the tasks it names alone.
+fn plan_tasks(
+    cells: &[Cell],
+    group_combos: &[Vec<Combo>],
+    done: &DoneSet,
+    only: Option<&BTreeSet<String>>,
+) -> (Vec<(Cell, Vec<Combo>)>, usize) {
+    let mut tasks = Vec::new();
+    let mut resumed = 0;
+    for cell in cells {
+        for gc in group_combos {
+            let detector = gc.first().map_or("", |c| c.detector.as_str());
+            if only.is_some_and(|only| !only.contains(&task_id(cell, detector))) {
+                continue;
+            }
+            if gc
+                .iter()
+                .all(|c| done.contains(&(cell.key(), c.name.clone())))
+            {
+                resumed += 1;
+            } else {
+                tasks.push((*cell, gc.clone()));
+            }
+        }
+    }
+    (tasks, resumed)
+}
+
+/// The (cell, combination) pairs a store already holds.
+type DoneSet = BTreeSet<((String, usize, usize), String)>;
+
+/// Every combination of one detector group `gc` evaluated on `planes` preprocessed as `cell`
+/// says: the mean of each metric, counting the images evaluated into `images`; `Err`: what
+/// failed.
+fn evaluate_cell(
+    cell: &Cell,
+    gc: &[Combo],
+    (spec, registry, ctx): (&EvalSpec, &Registry, &BuildContext),
+    planes: &[Plane],
+    images: &std::sync::atomic::AtomicUsize,
+) -> Result<Vec<CellResult>, String> {
+    let mut cell_spec = spec.clone();
+    cell_spec.image.width = cell.width;
+    cell_spec.image.height = cell.height;
+    cell_spec.image.interpolation = cell.interpolation;
+    let (groups, _) = build_groups(
+        gc,
+        &cell_spec,
+        registry,
+        ctx,
+        (cell.width, cell.height),
+        false,
+    )
+    .map_err(|e| e.to_string())?;
+    let mut out = Vec::new();
+    for g in groups {
+        let (rows, failure) = run_group(g, planes, &cell_spec, &|| {}, 0);
+        if let Some((_, e)) = failure {
+            return Err(e);
+        }
+        images.fetch_add(rows.len(), std::sync::atomic::Ordering::Relaxed);
+        for s in summarise(&rows) {
+            out.push(CellResult {
+                interpolation: interpolation_name(cell.interpolation),
+                width: cell.width,
+                height: cell.height,
+                combo: s.combo.clone(),
+                images: s.images,
+                means: s.metrics.iter().map(|(k, q)| (k.clone(), q.mean)).collect(),
+            });
+        }
+    }
+    Ok(out)
 }
