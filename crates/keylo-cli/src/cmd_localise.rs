@@ -12,6 +12,7 @@ use keylo::map::localise::{initial_pose, pose_of_text, pose_of_values, LocaliseC
 use keylo::map::Map;
 use keylo::{FrameResult, MapFit, Trajectory};
 
+use crate::report::Failure;
 use crate::{configs, view_out};
 
 #[derive(Debug, Args)]
@@ -93,8 +94,8 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     // recording.
     crate::interrupt::install("Ctrl-C will not save partial results");
     // A frame the source cannot read stops the run; the frames before it are kept, as in
-    // `keylo run`: (its index, the error).
-    let mut failure: Option<(u64, String)> = None;
+    // `keylo run`.
+    let mut failure: Option<Failure> = None;
     let mut next = 0u64;
     while let Some(frame) = source.next_frame() {
         if crate::interrupt::requested() {
@@ -103,7 +104,10 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
         let frame = match frame {
             Ok(f) => f,
             Err(e) => {
-                failure = Some((next, e.to_string()));
+                failure = Some(Failure {
+                    frame: next,
+                    error: e.to_string(),
+                });
                 break;
             }
         };
@@ -170,12 +174,8 @@ pub fn run(args: LocaliseArgs, quiet: bool) -> Result<ExitCode> {
     if let Some(e) = &view_error {
         eprintln!("error: {e:#} (trajectory.tum and localise.csv are written)");
     }
-    if let Some((frame, e)) = failure {
-        eprintln!(
-            "error: stopped at frame {frame}: {e}\n       the {n} frames done before it are \
-             written to {}",
-            args.out.display()
-        );
+    if let Some(f) = failure {
+        f.say(n, &args.out);
         return Ok(ExitCode::from(crate::EXIT_FRAME_FAILED));
     }
     if crate::interrupt::requested() {

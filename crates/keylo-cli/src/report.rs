@@ -25,6 +25,20 @@ pub struct Failure {
     pub error: String,
 }
 
+impl Failure {
+    /// Says on stderr that the run stopped here and that its `frames` frames done before it
+    /// are written to `out`.
+    pub fn say(&self, frames: usize, out: &Path) {
+        eprintln!(
+            "error: stopped at frame {}: {}\n       the {frames} frames done before it are \
+             written to {}",
+            self.frame,
+            self.error,
+            out.display()
+        );
+    }
+}
+
 /// `summary.json`.
 #[derive(Debug, Default, Serialize)]
 pub struct Summary {

@@ -95,8 +95,6 @@ impl NodeFiles {
 
     /// Closes the files; the first write that failed, if one did.
     pub fn finish(self) -> Option<anyhow::Error> {
-        drop(self.journal);
-        drop(self.latency);
         self.error
     }
 }

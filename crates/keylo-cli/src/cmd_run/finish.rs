@@ -40,13 +40,7 @@ pub(super) fn exit_status(
         );
     }
     if let Some(f) = &summary.failed {
-        eprintln!(
-            "error: stopped at frame {}: {}\n       the {} frames done before it are written to {}",
-            f.frame,
-            f.error,
-            summary.frames,
-            out.display()
-        );
+        f.say(summary.frames, out);
         let code = if interrupted {
             EXIT_INTERRUPTED
         } else {
