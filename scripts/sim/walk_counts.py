@@ -10,19 +10,19 @@ Markdown table: per lap and their mean, the real median, and the score the searc
 (the sum over detectors of |log(simulated / real)|).
 
 The target leaves out the stretches `keylo sim realism` reports on (`--hold-out`, default
-0-99,200-299,300-398,400-499,500-598,700-798,1046-1144: 449 images are left), so the lab
+1-99,200-299,300-398,400-499,500-598,700-798,1046-1144: 449 images are left), so the lab
 is tuned on some images and reported on others; `--hold-out none` takes every image (the
-target the search itself used, which differs by at most 2 keypoints per detector).
+target the search itself used, which differs by 0–5 keypoints per detector).
 
     python3 scripts/sim/walk_counts.py [--keylo target/release/keylo] [--seeds 6]
         [--seed 200] [--per-image ../shared/paper/per-image] [--real ../shared/data/tiers_signal]
-        [--hold-out 0-99,200-299,...|none]
+        [--hold-out 1-99,200-299,...|none]
 
 `--real` only feeds `keylo sim realism` its real half (12 images, not used here). Standard
-library only; about 40 s with 6 seeds on the 2-core machine.
+library only (the per-image CSVs are read with scripts/study/real_stretches.py); about 40 s
+with 6 seeds on the 2-core machine.
 """
 import argparse
-import csv
 import json
 import math
 import os
@@ -31,11 +31,13 @@ import subprocess
 import sys
 import tempfile
 
-COMBOS = "AKAZE_AKAZE ORB_ORB FAST_BRISK SHITOMASI_BRISK HARRIS_BRISK SIFT_SIFT BRISK_BRISK".split()
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "study"))
+from real_stretches import COMBOS, REPORTED, load  # noqa: E402
+
 LAPS = [0.0, 0.125, 0.25, 0.375]
 
-
-HOLD_OUT = "0-99,200-299,300-398,400-499,500-598,700-798,1046-1144"
+# The stretches `keylo sim realism` is reported on (docs/results/sim-realism.md).
+HOLD_OUT = ",".join(f"{a}-{b}" for a, b in sorted(r for rs in REPORTED.values() for r in rs))
 
 
 def parse_hold_out(text):
@@ -55,15 +57,15 @@ def parse_hold_out(text):
 
 
 def real_medians(directory, hold_out):
+    data = load(directory)
     out = []
     for combo in COMBOS:
         path = os.path.join(directory, combo + ".csv")
         try:
-            with open(path, newline="") as f:
-                counts = [(int(r["image_number"]), float(r["evaluation_1"])) for r in csv.DictReader(f)]
-        except (OSError, KeyError, ValueError) as e:
+            kept = [float(r["evaluation_1"]) for k, r in data[combo].items()
+                    if not any(a <= k <= b for a, b in hold_out)]
+        except (KeyError, ValueError) as e:
             sys.exit(f"{path}: expected the authors' per-image CSV (image_number, evaluation_1 …): {e}")
-        kept = [c for k, c in counts if not any(a <= k <= b for a, b in hold_out)]
         if not kept:
             sys.exit(f"{path}: --hold-out leaves no image")
         out.append(statistics.median(kept))
